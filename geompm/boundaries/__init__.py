@@ -1,0 +1,1 @@
+"""Boundary conditions on grid velocities (geompm.boundaries entry-point group)."""

@@ -1,0 +1,1 @@
+"""State, grid window, time-step control and the scheduler (time loop of stages)."""

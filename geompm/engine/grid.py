@@ -1,0 +1,95 @@
+"""Background grid: the fixed global lattice and the per-step active window.
+
+The global grid has nodes i_a = 0..ncells[a] along each axis at
+``origin + i h``.  Each step only the window of nodes that the particles'
+stencils touch is allocated and computed (``lo``, ``nloc``), so a small flow in
+a large domain costs what the flow costs.  Buffers grow geometrically and are
+reused between steps.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+from ..errors import SimulationError
+from ..kernels.reduce import cell_bounds, first_outside
+
+
+@dataclass
+class GridSpec:
+    origin: np.ndarray  # (d,) [m]
+    h: float  # cell size [m]
+    ncells: np.ndarray  # (d,) int64: cells per axis; nodes 0..ncells
+    kind: int  # shape-function kind (kernels/shape.py)
+
+    @property
+    def dim(self) -> int:
+        return len(self.origin)
+
+    @property
+    def upper(self) -> np.ndarray:
+        return self.origin + self.ncells * self.h
+
+
+@dataclass
+class GridView:
+    """What grid stages (boundaries, obstacles, grid damping) see each step."""
+
+    spec: GridSpec
+    lo: np.ndarray  # (d,) int64 global index of the first window node
+    nloc: np.ndarray  # (d,) int64 window nodes per axis
+    g_mass: np.ndarray  # (nn,) [kg]
+    g_mom: np.ndarray  # (nn, d) [kg m/s]
+    g_force: np.ndarray  # (nn, d) [N]
+    g_vel: np.ndarray  # (nn, d) updated velocity [m/s]
+    g_vel_old: np.ndarray  # (nn, d) velocity before the update [m/s]
+
+
+class GridBuffers:
+    """Reusable grid arrays, including the per-chunk private P2G grids."""
+
+    def __init__(self, spec: GridSpec, nchunks: int | None = None):
+        self.spec = spec
+        self.nchunks = nchunks or numba.get_num_threads()
+        self.cap = 0
+        self._alloc(1024)
+
+    def _alloc(self, cap):
+        d, c = self.spec.dim, self.nchunks
+        self.cap = cap
+        self.c_mass = np.zeros((c, cap))
+        self.c_mom = np.zeros((c, cap, d))
+        self.c_force = np.zeros((c, cap, d))
+        self.g_mass = np.zeros(cap)
+        self.g_mom = np.zeros((cap, d))
+        self.g_force = np.zeros((cap, d))
+        self.g_vel = np.zeros((cap, d))
+        self.g_vel_old = np.zeros((cap, d))
+
+    def nbytes(self) -> int:
+        return sum(a.nbytes for a in (self.c_mass, self.c_mom, self.c_force, self.g_mass,
+                                      self.g_mom, self.g_force, self.g_vel, self.g_vel_old))
+
+    def window(self, p_x) -> GridView:
+        """Window covering every particle's stencil; error if a particle left the grid."""
+        spec = self.spec
+        b = cell_bounds(p_x, spec.origin, 1.0 / spec.h)
+        if (b[0] < -1).any() or (b[1] > spec.ncells).any():
+            lo_b = spec.origin - spec.h
+            hi_b = spec.upper + spec.h
+            p = first_outside(p_x, lo_b, hi_b)
+            raise SimulationError(
+                f"particle {p} at x = {np.array2string(p_x[p], precision=4)} m left the grid "
+                f"[{np.array2string(spec.origin, precision=4)}, {np.array2string(spec.upper, precision=4)}] m; "
+                "enlarge grid.extent or add wall boundaries"
+            )
+        lo = (b[0] - 1).astype(np.int64)
+        nloc = (b[1] - b[0] + 4).astype(np.int64)
+        nn = int(np.prod(nloc))
+        if nn > self.cap:
+            self._alloc(int(nn * 1.25) + 64)
+        return GridView(spec, lo, nloc, self.g_mass[:nn], self.g_mom[:nn], self.g_force[:nn],
+                        self.g_vel[:nn], self.g_vel_old[:nn])

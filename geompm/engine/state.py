@@ -1,0 +1,71 @@
+"""Particle state as a structure of arrays.
+
+n particles, d dimensions; shapes as below, SI units:
+
+    p_x (n, d) position [m]          p_x0 (n, d) initial position [m]
+    p_v (n, d) velocity [m/s]        p_C (n, d, d) APIC affine matrix [1/s]
+    p_mass (n,) [kg]                 p_vol0, p_vol (n,) volume [m^d; m^2 per m in 2D]
+    p_rho (n,) density [kg/m3]       p_stress (n, 6) Cauchy stress, Voigt (voigt.py) [Pa]
+    p_F (n, 3, 3) deformation gradient   p_L (n, 3, 3) velocity gradient [1/s]
+    p_material (n,) int32            p_body (n,) int32
+
+Particles are sorted by material: material k owns the contiguous block
+``blocks[k] = (start, end)``; its state variables live in ``p_state[k]``
+with shape (end - start, len(material.state_vars)).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass
+class ParticleState:
+    p_x: np.ndarray
+    p_v: np.ndarray
+    p_mass: np.ndarray
+    p_vol0: np.ndarray
+    p_material: np.ndarray
+    p_body: np.ndarray
+    p_stress: np.ndarray
+    p_x0: np.ndarray = None
+    p_C: np.ndarray = None
+    p_vol: np.ndarray = None
+    p_rho: np.ndarray = None
+    p_F: np.ndarray = None
+    p_L: np.ndarray = None
+    blocks: list = field(default_factory=list)
+    p_state: list = field(default_factory=list)
+
+    def __post_init__(self):
+        n, d = self.p_x.shape
+        if self.p_x0 is None:
+            self.p_x0 = self.p_x.copy()
+        if self.p_C is None:
+            self.p_C = np.zeros((n, d, d))
+        if self.p_vol is None:
+            self.p_vol = self.p_vol0.copy()
+        if self.p_rho is None:
+            self.p_rho = self.p_mass / self.p_vol
+        if self.p_F is None:
+            self.p_F = np.zeros((n, 3, 3))
+            self.p_F[:, 0, 0] = self.p_F[:, 1, 1] = self.p_F[:, 2, 2] = 1.0
+        if self.p_L is None:
+            self.p_L = np.zeros((n, 3, 3))
+
+    @property
+    def n(self) -> int:
+        return self.p_x.shape[0]
+
+    @property
+    def dim(self) -> int:
+        return self.p_x.shape[1]
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Every per-particle array by name (for writers and checkpoints)."""
+        return {k: v for k, v in vars(self).items() if k.startswith("p_") and isinstance(v, np.ndarray)}
+
+    def nbytes(self) -> int:
+        return sum(a.nbytes for a in self.arrays().values()) + sum(s.nbytes for s in self.p_state)

@@ -1,0 +1,1 @@
+"""Numba kernels.  They take arrays and scalars only; no configuration objects."""

@@ -1,0 +1,70 @@
+"""Linear elastic solid in rate form with the Jaumann (objective) stress rate.
+
+    sigma_dot = lambda tr(D) I + 2 G D + W sigma - sigma W
+
+D = sym(L) rate of deformation, W = skew(L) spin [1/s];
+G = E / (2 (1 + nu)), lambda = E nu / ((1 + nu)(1 - 2 nu)).
+Small-strain Hooke's law made objective for large rotations; see Belytschko,
+Liu & Moran (2000) Nonlinear Finite Elements for Continua and Structures, sec. 5.7.
+P-wave speed c_p = sqrt((lambda + 2 G) / rho) bounds the time step.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+from pydantic import Field
+
+from ..kernels.voigt import jaumann_increment
+from .base import Material, MaterialParams
+
+
+class LinearElasticParams(MaterialParams):
+    youngs_modulus: float = Field(gt=0, description="Young's modulus E [Pa]")
+    poisson_ratio: float = Field(gt=-1.0, lt=0.5, description="Poisson's ratio nu [-], -1 < nu < 0.5")
+
+
+@njit(parallel=True, fastmath=True, cache=True)
+def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
+    lam = prm[1]
+    two_g = 2.0 * prm[2]
+    for p in prange(p_L.shape[0]):
+        L = p_L[p]
+        s = p_stress[p]
+        jz = jaumann_increment(s, L, dt)
+        tr = (L[0, 0] + L[1, 1] + L[2, 2]) * dt
+        s[0] += lam * tr + two_g * L[0, 0] * dt + jz[0]
+        s[1] += lam * tr + two_g * L[1, 1] * dt + jz[1]
+        s[2] += lam * tr + two_g * L[2, 2] * dt + jz[2]
+        s[3] += two_g * 0.5 * (L[0, 1] + L[1, 0]) * dt + jz[3]
+        s[4] += two_g * 0.5 * (L[1, 2] + L[2, 1]) * dt + jz[4]
+        s[5] += two_g * 0.5 * (L[0, 2] + L[2, 0]) * dt + jz[5]
+
+
+@njit(cache=True)
+def _wave_speed(prm, p_rho):
+    return math.sqrt((prm[1] + 2.0 * prm[2]) / prm[0])
+
+
+class LinearElastic(Material):
+    name = "linear_elastic"
+    description = "Isotropic linear elasticity (Hooke) in rate form with the Jaumann stress rate"
+    Params = LinearElasticParams
+    stress_kernel = _stress
+    wave_speed_kernel = _wave_speed
+
+    @classmethod
+    def pack(cls, params):
+        E, nu = params.youngs_modulus, params.poisson_ratio
+        lam = E * nu / ((1 + nu) * (1 - 2 * nu))
+        g = E / (2 * (1 + nu))
+        return np.array([params.density, lam, g])
+
+    def k0(self) -> float:
+        nu = self.params.poisson_ratio
+        return nu / (1.0 - nu)
+
+    def stiffness(self) -> float:
+        return float(self.params.youngs_modulus)

@@ -1,0 +1,31 @@
+"""Base shape shared by every plugin (material, damping, boundary, obstacle, writer).
+
+A plugin class has a ``name``, a one-line ``description`` and a pydantic
+``Params`` model (``extra="forbid"``, SI units in the field descriptions,
+physical bounds as validators).  ``check`` may add case-level problems that
+need more than the plugin's own parameters (for example a wall side that does
+not exist in 2D).
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+from pydantic import BaseModel, ConfigDict
+
+
+class Params(BaseModel):
+    """Base for plugin parameter models: unknown keys are errors."""
+
+    model_config = ConfigDict(extra="forbid")
+
+
+class Plugin:
+    name: ClassVar[str] = ""
+    description: ClassVar[str] = ""
+    Params: ClassVar[type[BaseModel]] = Params
+
+    @classmethod
+    def check(cls, params, case) -> list[tuple[str, str]]:
+        """Problems as (path relative to the plugin's entry, message)."""
+        return []

@@ -1,0 +1,145 @@
+"""Pydantic v2 models of a geompm case (the JSON file).
+
+Only the core's keys are modelled here.  Plugin parameters (a material's
+``youngs_modulus``, a wall's ``friction``, ...) are kept as extra keys on
+``MaterialSpec`` / ``PluginSpec`` and validated in a second pass against the
+plugin's own ``Params`` model (see ``geompm.schema.load``).
+
+Units are SI: metres, seconds, kilograms, pascals; angles in degrees.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal, Union
+
+from pydantic import BaseModel, ConfigDict, Field
+
+Vector = list[float]
+
+
+class Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class GridSpec(Strict):
+    origin: Vector = Field(description="Lower corner of the background grid [m], one entry per dimension")
+    extent: Vector = Field(description="Size of the grid along each axis [m]; must be positive")
+    cell_size: float = Field(gt=0, description="Edge length h of the square/cubic grid cells [m]")
+    shape_function: Literal["linear", "quadratic", "cubic"] = Field(
+        "quadratic", description="Grid basis: linear hat, quadratic or cubic B-spline"
+    )
+
+
+class TimeSpec(Strict):
+    end: float = Field(gt=0, description="Simulated end time [s]")
+    cfl: float = Field(0.4, gt=0, le=1.0, description="Courant number: dt = cfl * h / max(c_p + |v_p|)")
+    dt_max: float | None = Field(None, gt=0, description="Upper bound on the time step [s]")
+    dt: float | None = Field(
+        None, gt=0, description="Fixed time step [s]; overrides the adaptive CFL step (use with care)"
+    )
+
+
+class SolverSpec(Strict):
+    transfer: Literal["apic", "pic", "flip"] = Field(
+        "apic", description="Particle-grid velocity transfer: APIC (affine), PIC, or FLIP/PIC blend"
+    )
+    flip_ratio: float = Field(
+        0.99, ge=0.0, le=1.0, description="FLIP fraction of the velocity update (transfer 'flip' only) [-]"
+    )
+    update: Literal["usl", "musl"] = Field(
+        "usl", description="Stress update order: USL (update stress last) or MUSL (modified USL)"
+    )
+
+
+class MaterialSpec(BaseModel):
+    """``{"model": <plugin name>, ...the plugin's parameters}``."""
+
+    model_config = ConfigDict(extra="allow")
+    model: str = Field(description="Name of a plugin in the geompm.materials entry-point group")
+
+
+class PluginSpec(BaseModel):
+    """A boundary/obstacle: ``{"type": <plugin name>, ...its parameters}``."""
+
+    model_config = ConfigDict(extra="allow")
+    type: str = Field(description="Name of a plugin in the group of this list")
+    name: str | None = Field(None, description="Optional label used in series.csv columns")
+
+
+class DampingSpec(BaseModel):
+    model_config = ConfigDict(extra="allow")
+    model: str = Field(description="Name of a plugin in the geompm.damping entry-point group")
+
+
+class OutputSpec(BaseModel):
+    model_config = ConfigDict(extra="allow")
+    writer: str = Field(description="Name of a plugin in the geompm.writers entry-point group")
+    interval: float = Field(
+        0.0, ge=0.0, description="Simulated time between two outputs [s]; 0 writes every step"
+    )
+
+
+class BoxGeometry(Strict):
+    type: Literal["box"]
+    min: Vector = Field(description="Lower corner [m]")
+    max: Vector = Field(description="Upper corner [m]")
+
+
+class PolygonGeometry(Strict):
+    type: Literal["polygon"]
+    vertices: list[Vector] = Field(min_length=3, description="Closed polygon in the x-y plane [m], 2D only")
+    extrude: list[float] | None = Field(
+        None, min_length=2, max_length=2, description="[z_min, z_max] to extrude the polygon in a 3D case [m]"
+    )
+
+
+class StlGeometry(Strict):
+    type: Literal["stl"]
+    file: str = Field(description="Watertight surface mesh (STL/OBJ/PLY), relative to the case file; 3D only")
+    scale: float = Field(1.0, gt=0, description="Factor applied to the mesh coordinates (e.g. 0.001 for mm)")
+    translate: Vector = Field(default_factory=lambda: [0.0, 0.0, 0.0], description="Offset after scaling [m]")
+
+
+Geometry = Annotated[Union[BoxGeometry, PolygonGeometry, StlGeometry], Field(discriminator="type")]
+
+
+class VelocityProfile(Strict):
+    """Spatial profile multiplying a body's velocity vector.
+
+    ``uniform``: v(x) = velocity.  ``sine``: v(x) = velocity * sin(k (x_axis - x0)),
+    a standing-wave initial condition for verification (vibration modes).
+    """
+
+    type: Literal["uniform", "sine"] = "uniform"
+    axis: int = Field(0, ge=0, le=2, description="Axis of the coordinate in the sine profile")
+    wavenumber: float = Field(0.0, description="k [1/m]")
+    start: float = Field(0.0, description="x0 [m]: where the sine is zero")
+
+
+class BodySpec(Strict):
+    material: str = Field(description="Key of an entry in 'materials'")
+    geometry: Geometry
+    particles_per_cell: int = Field(2, ge=1, le=8, description="Particles per cell along each axis")
+    velocity: Vector | None = Field(None, description="Initial velocity [m/s]; zero if omitted")
+    velocity_profile: VelocityProfile = Field(default_factory=VelocityProfile)
+    initial_stress: Literal["none", "geostatic"] = Field(
+        "none", description="'geostatic': sigma_v = rho g depth, sigma_h = K0 sigma_v (K0 from the material)"
+    )
+
+
+class Case(Strict):
+    """A geompm case.  Every length in m, time in s, density kg/m3, stress Pa."""
+
+    name: str = Field(pattern=r"^[A-Za-z0-9_.\-]+$", description="Run name; default output folder runs/<name>")
+    description: str = ""
+    dimension: Literal[2, 3] = Field(description="2 = plane strain, 3 = three-dimensional")
+    grid: GridSpec
+    time: TimeSpec
+    gravity: Vector = Field(description="Body acceleration [m/s2], one entry per dimension")
+    solver: SolverSpec = Field(default_factory=SolverSpec)
+    materials: dict[str, MaterialSpec] = Field(min_length=1)
+    bodies: list[BodySpec] = Field(min_length=1)
+    boundaries: list[PluginSpec] = Field(default_factory=list)
+    obstacles: list[PluginSpec] = Field(default_factory=list)
+    damping: list[DampingSpec] = Field(default_factory=list)
+    outputs: list[OutputSpec] = Field(default_factory=list)

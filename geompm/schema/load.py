@@ -1,0 +1,210 @@
+"""Load a case: read JSON, apply ``--set`` overrides, validate in two passes.
+
+Pass 1 validates the core keys with ``geompm.schema.case.Case``.  Pass 2
+resolves every plugin name through the registry and validates its parameters
+with the plugin's ``Params`` model, then checks what needs the whole case
+(vector lengths against ``dimension``, bodies inside the grid, material names,
+mesh files).  Every problem is collected with its JSON path and raised at once
+as ``CaseError``; nothing is computed before the case is valid.
+"""
+
+from __future__ import annotations
+
+import copy
+import difflib
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from pydantic import ValidationError
+
+from .. import registry
+from ..errors import CaseError, join_path
+from .case import Case
+from .errors import format_validation_error
+
+
+@dataclass
+class Resolved:
+    """One plugin entry of the case, resolved: class, validated params, JSON path."""
+
+    cls: type
+    params: object
+    path: str
+    label: str
+
+
+@dataclass
+class LoadedCase:
+    case: Case
+    base_dir: Path
+    raw: dict
+    materials: dict[str, Resolved] = field(default_factory=dict)
+    boundaries: list[Resolved] = field(default_factory=list)
+    obstacles: list[Resolved] = field(default_factory=list)
+    damping: list[Resolved] = field(default_factory=list)
+    outputs: list[Resolved] = field(default_factory=list)
+
+    def resolve_path(self, relative: str) -> Path:
+        """A file path from the case, relative to the case file's folder."""
+        p = Path(relative)
+        return p if p.is_absolute() else (self.base_dir / p)
+
+
+def read_json(path: str | Path) -> dict:
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as exc:
+        raise CaseError([("", f"cannot read case file '{path}': {exc.strerror}")]) from None
+    try:
+        raw = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise CaseError([("", f"{path}: malformed JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}")]) from None
+    if not isinstance(raw, dict):
+        raise CaseError([("", f"{path}: the case must be a JSON object")])
+    return raw
+
+
+def apply_overrides(raw: dict, sets: list[str] | tuple[str, ...]) -> dict:
+    """Apply ``dotted.key=value`` overrides; value parsed as JSON, else kept as text."""
+    raw = copy.deepcopy(raw)
+    for item in sets:
+        if "=" not in item:
+            raise CaseError([(item, "a --set must look like dotted.key=value")])
+        key, text = item.split("=", 1)
+        try:
+            value = json.loads(text)
+        except json.JSONDecodeError:
+            value = text
+        parts = key.split(".")
+        node = raw
+        for i, part in enumerate(parts[:-1]):
+            nxt = int(part) if isinstance(node, list) and part.lstrip("-").isdigit() else part
+            try:
+                node = node[nxt]
+            except (KeyError, IndexError, TypeError):
+                raise CaseError([(join_path(*parts[: i + 1]), f"--set {key}: no such key in the case")]) from None
+        last = parts[-1]
+        if isinstance(node, list):
+            if not last.isdigit() or int(last) >= len(node):
+                raise CaseError([(key, f"--set {key}: index out of range")])
+            node[int(last)] = value
+        else:
+            node[last] = value
+    return raw
+
+
+def _plugin_params(kind, key, spec, path, case, problems) -> Resolved | None:
+    name = getattr(spec, key)
+    try:
+        cls = registry.get(kind, name, join_path(path, key))
+    except CaseError as exc:
+        problems.extend(exc.problems)
+        return None
+    extra = dict(spec.model_extra or {})
+    try:
+        params = cls.Params.model_validate(extra)
+    except ValidationError as exc:
+        problems.extend(format_validation_error(exc, cls.Params, prefix=path.split(".")))
+        return None
+    for sub, msg in cls.check(params, case):
+        problems.append((join_path(path, sub), msg))
+    label = getattr(spec, "name", None) or f"{name}{path.rsplit('.', 1)[-1]}"
+    return Resolved(cls, params, path, label)
+
+
+def _check_vec(vec, dim, path, problems, positive=False):
+    if vec is None:
+        return
+    if len(vec) != dim:
+        problems.append((path, f"must have {dim} entries (one per dimension), got {len(vec)}"))
+    elif positive and any(v <= 0 for v in vec):
+        problems.append((path, "every entry must be > 0"))
+
+
+def _check_body(i, body, case: Case, base_dir: Path, problems):
+    dim = case.dimension
+    path = f"bodies.{i}"
+    if body.material not in case.materials:
+        close = difflib.get_close_matches(body.material, list(case.materials), n=1)
+        hint = f"; did you mean '{close[0]}'?" if close else ""
+        problems.append((f"{path}.material", f"no material named '{body.material}' in 'materials'{hint}"))
+    _check_vec(body.velocity, dim, f"{path}.velocity", problems)
+    if body.velocity_profile.axis >= dim:
+        problems.append((f"{path}.velocity_profile.axis", f"must be < {dim} in a {dim}D case"))
+    geom = body.geometry
+    gpath = f"{path}.geometry"
+    lo = case.grid.origin
+    hi = [o + e for o, e in zip(case.grid.origin, case.grid.extent)]
+    if geom.type == "box":
+        _check_vec(geom.min, dim, f"{gpath}.min", problems)
+        _check_vec(geom.max, dim, f"{gpath}.max", problems)
+        if len(geom.min) == dim == len(geom.max) and len(lo) == dim:
+            if any(a >= b for a, b in zip(geom.min, geom.max)):
+                problems.append((gpath, "every entry of 'min' must be below the same entry of 'max'"))
+            if any(a < l or b > h for a, b, l, h in zip(geom.min, geom.max, lo, hi)):
+                problems.append((gpath, f"box {geom.min}..{geom.max} lies outside the grid {lo}..{hi}"))
+    elif geom.type == "polygon":
+        if dim == 3 and geom.extrude is None:
+            problems.append((f"{gpath}.extrude", "a polygon in a 3D case needs 'extrude': [z_min, z_max]"))
+        for j, v in enumerate(geom.vertices):
+            if len(v) != 2:
+                problems.append((f"{gpath}.vertices.{j}", "a polygon vertex has 2 entries (x, y)"))
+            elif len(lo) >= 2 and not (lo[0] <= v[0] <= hi[0] and lo[1] <= v[1] <= hi[1]):
+                problems.append((f"{gpath}.vertices.{j}", f"vertex {v} lies outside the grid"))
+    elif geom.type == "stl":
+        if dim != 3:
+            problems.append((f"{gpath}.type", "an 'stl' body needs a 3D case; use 'polygon' in 2D"))
+        p = Path(geom.file)
+        p = p if p.is_absolute() else base_dir / p
+        if not p.is_file():
+            problems.append((f"{gpath}.file", f"mesh file '{geom.file}' not found (looked in {p.parent})"))
+
+
+def parse_case(raw: dict, base_dir: str | Path = ".") -> LoadedCase:
+    """Validate a raw case dict (both passes); CaseError lists every problem."""
+    base_dir = Path(base_dir)
+    try:
+        case = Case.model_validate(raw)
+    except ValidationError as exc:
+        raise CaseError(format_validation_error(exc, Case)) from None
+
+    problems: list[tuple[str, str]] = []
+    dim = case.dimension
+    _check_vec(case.grid.origin, dim, "grid.origin", problems)
+    _check_vec(case.grid.extent, dim, "grid.extent", problems, positive=True)
+    _check_vec(case.gravity, dim, "gravity", problems)
+    if len(case.grid.extent) == dim and any(e < 2 * case.grid.cell_size for e in case.grid.extent):
+        problems.append(("grid.cell_size", "must be at most half of every grid extent"))
+    if case.time.dt_max is not None and case.time.dt is not None:
+        problems.append(("time.dt", "give either a fixed 'dt' or 'dt_max', not both"))
+
+    loaded = LoadedCase(case=case, base_dir=base_dir, raw=raw)
+    for name, spec in case.materials.items():
+        r = _plugin_params("materials", "model", spec, f"materials.{name}", case, problems)
+        if r is not None:
+            r.label = name
+            loaded.materials[name] = r
+    for i, body in enumerate(case.bodies):
+        _check_body(i, body, case, base_dir, problems)
+    for attr, kind, key in (
+        ("boundaries", "boundaries", "type"),
+        ("obstacles", "obstacles", "type"),
+        ("damping", "damping", "model"),
+        ("outputs", "writers", "writer"),
+    ):
+        for i, spec in enumerate(getattr(case, attr)):
+            r = _plugin_params(kind, key, spec, f"{attr}.{i}", case, problems)
+            if r is not None:
+                getattr(loaded, attr).append(r)
+    if problems:
+        raise CaseError(problems)
+    return loaded
+
+
+def load_case(path: str | Path, sets=()) -> LoadedCase:
+    """Read, override and validate a case file."""
+    path = Path(path)
+    raw = apply_overrides(read_json(path), list(sets))
+    return parse_case(raw, base_dir=path.resolve().parent)

@@ -1,0 +1,38 @@
+"""Base classes of the per-step stages that plugins provide.
+
+- ``GridStage``: acts on grid velocities after the grid update (boundaries,
+  obstacles, grid damping).  ``apply_grid(view, dt, time, remap)``: ``remap``
+  is True when the scheduler re-applies conditions to the MUSL re-mapped
+  velocities (a stage that records forces should count only the first call).
+- ``ParticleStage``: acts on particles after G2P (particle damping).
+
+A stage may contribute columns to series.csv through ``series()``, a dict of
+column name -> value at the current step.  The scheduler picks stages by these
+capabilities, never by plugin name.
+"""
+
+from __future__ import annotations
+
+from .plugin import Plugin
+
+
+class Stage(Plugin):
+    def __init__(self, params, label: str):
+        self.params = params
+        self.label = label
+
+    def setup(self, scene) -> None:
+        """Runs once after the scene is assembled (select nodes, build fields)."""
+
+    def series(self) -> dict[str, float]:
+        return {}
+
+
+class GridStage(Stage):
+    def apply_grid(self, view, dt: float, time: float, remap: bool) -> None:
+        raise NotImplementedError
+
+
+class ParticleStage(Stage):
+    def apply_particles(self, state, dt: float, time: float) -> None:
+        raise NotImplementedError
