@@ -24,6 +24,7 @@ def tiny_case(**over) -> dict:
         "grid": {"origin": [0.0, 0.0], "extent": [1.0, 1.0], "cell_size": 0.1},
         "time": {"end": 0.05, "cfl": 0.4},
         "gravity": [0.0, -9.81],
+        "solver": {"transfer": "apic", "update": "usl"},
         "materials": {"soil": {"model": "linear_elastic", "density": 2000.0,
                                "youngs_modulus": 1.0e6, "poisson_ratio": 0.3}},
         "bodies": [{"material": "soil", "geometry": {"type": "box", "min": [0.2, 0.0], "max": [0.6, 0.4]},

@@ -20,7 +20,7 @@ from pydantic import ValidationError
 
 from .. import registry
 from ..errors import CaseError, join_path
-from .case import Case
+from .case import Case, DampingSpec, MaterialSpec, OutputSpec, PluginSpec
 from .errors import format_validation_error
 
 
@@ -108,8 +108,9 @@ def _plugin_params(kind, key, spec, path, case, problems) -> Resolved | None:
     except ValidationError as exc:
         problems.extend(format_validation_error(exc, cls.Params, prefix=path.split(".")))
         return None
-    for sub, msg in cls.check(params, case):
-        problems.append((join_path(path, sub), msg))
+    if case is not None:
+        for sub, msg in cls.check(params, case):
+            problems.append((join_path(path, sub), msg))
     label = getattr(spec, "name", None) or f"{name}{path.rsplit('.', 1)[-1]}"
     return Resolved(cls, params, path, label)
 
@@ -162,13 +163,51 @@ def _check_body(i, body, case: Case, base_dir: Path, problems):
             problems.append((f"{gpath}.file", f"mesh file '{geom.file}' not found (looked in {p.parent})"))
 
 
+_PLUGIN_LISTS = (
+    ("boundaries", "boundaries", "type", PluginSpec),
+    ("obstacles", "obstacles", "type", PluginSpec),
+    ("damping", "damping", "model", DampingSpec),
+    ("outputs", "writers", "writer", OutputSpec),
+)
+
+
+def _plugin_pass(raw: dict, case, loaded, problems) -> None:
+    """Resolve and validate every plugin entry that is well formed in ``raw``.
+
+    Runs even when pass 1 failed (``case`` is None then), so a user sees the
+    plugin-parameter problems together with the core ones.
+    """
+    mats = raw.get("materials")
+    for name, entry in (mats.items() if isinstance(mats, dict) else ()):
+        try:
+            spec = MaterialSpec.model_validate(entry)
+        except ValidationError:
+            continue  # already reported by pass 1
+        r = _plugin_params("materials", "model", spec, f"materials.{name}", case, problems)
+        if r is not None and loaded is not None:
+            r.label = name
+            loaded.materials[name] = r
+    for attr, kind, key, model in _PLUGIN_LISTS:
+        items = raw.get(attr)
+        for i, entry in enumerate(items if isinstance(items, list) else ()):
+            try:
+                spec = model.model_validate(entry)
+            except ValidationError:
+                continue
+            r = _plugin_params(kind, key, spec, f"{attr}.{i}", case, problems)
+            if r is not None and loaded is not None:
+                getattr(loaded, attr).append(r)
+
+
 def parse_case(raw: dict, base_dir: str | Path = ".") -> LoadedCase:
     """Validate a raw case dict (both passes); CaseError lists every problem."""
     base_dir = Path(base_dir)
     try:
         case = Case.model_validate(raw)
     except ValidationError as exc:
-        raise CaseError(format_validation_error(exc, Case)) from None
+        problems = format_validation_error(exc, Case)
+        _plugin_pass(raw, None, None, problems)
+        raise CaseError(problems) from None
 
     problems: list[tuple[str, str]] = []
     dim = case.dimension
@@ -179,25 +218,10 @@ def parse_case(raw: dict, base_dir: str | Path = ".") -> LoadedCase:
         problems.append(("grid.cell_size", "must be at most half of every grid extent"))
     if case.time.dt_max is not None and case.time.dt is not None:
         problems.append(("time.dt", "give either a fixed 'dt' or 'dt_max', not both"))
-
-    loaded = LoadedCase(case=case, base_dir=base_dir, raw=raw)
-    for name, spec in case.materials.items():
-        r = _plugin_params("materials", "model", spec, f"materials.{name}", case, problems)
-        if r is not None:
-            r.label = name
-            loaded.materials[name] = r
     for i, body in enumerate(case.bodies):
         _check_body(i, body, case, base_dir, problems)
-    for attr, kind, key in (
-        ("boundaries", "boundaries", "type"),
-        ("obstacles", "obstacles", "type"),
-        ("damping", "damping", "model"),
-        ("outputs", "writers", "writer"),
-    ):
-        for i, spec in enumerate(getattr(case, attr)):
-            r = _plugin_params(kind, key, spec, f"{attr}.{i}", case, problems)
-            if r is not None:
-                getattr(loaded, attr).append(r)
+    loaded = LoadedCase(case=case, base_dir=base_dir, raw=raw)
+    _plugin_pass(raw, case, loaded, problems)
     if problems:
         raise CaseError(problems)
     return loaded
