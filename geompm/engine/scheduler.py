@@ -31,7 +31,8 @@ class Simulation:
         self.scene = scene
         self.state = scene.state
         self.buffers = GridBuffers(scene.grid, nchunks)
-        stages = scene.boundaries + scene.obstacles + scene.damping
+        # damping first: boundaries and obstacles must have the last word on grid velocities
+        stages = scene.damping + scene.boundaries + scene.obstacles
         self.grid_stages = [s for s in stages if isinstance(s, GridStage)]
         self.particle_stages = [s for s in stages if isinstance(s, ParticleStage)]
         self.mass_eps = 1e-9 * float(self.state.p_mass.min())

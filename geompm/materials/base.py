@@ -52,6 +52,11 @@ class Material(Plugin):
     stress_kernel = None
     wave_speed_kernel = None
 
+    @classmethod
+    def example_params(cls):
+        """A representative, valid parameter set: the conformance suite runs the law with it."""
+        raise NotImplementedError(f"material '{cls.name}' must define example_params() for geompm.testing")
+
     def k0(self) -> float:
         raise NotImplementedError(f"material '{self.name}' defines no K0 for geostatic stress")
 

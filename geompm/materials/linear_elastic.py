@@ -62,6 +62,10 @@ class LinearElastic(Material):
         g = E / (2 * (1 + nu))
         return np.array([params.density, lam, g])
 
+    @classmethod
+    def example_params(cls):
+        return cls.Params(density=2000.0, youngs_modulus=1.0e7, poisson_ratio=0.3)
+
     def k0(self) -> float:
         nu = self.params.poisson_ratio
         return nu / (1.0 - nu)

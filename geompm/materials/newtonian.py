@@ -15,6 +15,7 @@ from numba import njit, prange
 from pydantic import Field
 
 from .base import Material, MaterialParams
+from .fluid import set_fluid_stress
 from .tait import tait_pressure, tait_wave_speed
 
 
@@ -30,14 +31,7 @@ def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
     for p in prange(p_L.shape[0]):
         L = p_L[p]
         s = p_stress[p]
-        P = tait_pressure(p_rho[p], rho0, c, r)
-        tr3 = (L[0, 0] + L[1, 1] + L[2, 2]) / 3.0
-        s[0] = -P + 2.0 * mu * (L[0, 0] - tr3)
-        s[1] = -P + 2.0 * mu * (L[1, 1] - tr3)
-        s[2] = -P + 2.0 * mu * (L[2, 2] - tr3)
-        s[3] = mu * (L[0, 1] + L[1, 0])
-        s[4] = mu * (L[1, 2] + L[2, 1])
-        s[5] = mu * (L[0, 2] + L[2, 0])
+        set_fluid_stress(s, L, tait_pressure(p_rho[p], rho0, c, r), mu)
 
 
 @njit(cache=True)
@@ -56,6 +50,10 @@ class Newtonian(Material):
     @classmethod
     def pack(cls, params):
         return np.array([params.density, params.viscosity, params.sound_speed, params.eos_exponent])
+
+    @classmethod
+    def example_params(cls):
+        return cls.Params(density=1000.0, viscosity=1.0e-3, sound_speed=35.0)
 
     def k0(self) -> float:
         return 1.0

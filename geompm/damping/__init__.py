@@ -1,0 +1,1 @@
+"""Damping stages (geompm.damping entry-point group)."""

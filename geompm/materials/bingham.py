@@ -1,0 +1,88 @@
+"""Bingham viscoplastic fluid, weakly compressible (eqs. 1-5 of the source study).
+
+    tau = mu_eff epsdot',  mu_eff = mu_B + tau_B / gamma_dot          (1)-(3)
+    sigma = -P I + tau,    P = rho0 c^2 / r ((rho/rho0)^r - 1)         (4)-(5)
+
+Regularisation (Papanastasiou 1987, J. Rheol. 31:385), so that mu_eff never
+divides by zero:
+
+    mu_eff = mu_B + tau_B (1 - exp(-M gamma_dot)) / gamma_dot,
+
+with M = ``regularisation_time`` [s]; mu_eff -> mu_B + tau_B M as
+gamma_dot -> 0 and equals the Bingham value within a factor exp(-M gamma_dot)
+of the yield term above gamma_dot ~ 5 / M.  gamma_dot = sqrt(2 D':D') (fluid.py).
+The zero-rate viscosity mu_B + tau_B M sets the viscous time-step limit.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+from pydantic import Field
+
+from .base import Material, MaterialParams
+from .fluid import set_fluid_stress, shear_rate
+from .tait import tait_pressure, tait_wave_speed
+
+
+class BinghamParams(MaterialParams):
+    viscosity: float = Field(gt=0, description="Plastic (Bingham) viscosity mu_B [Pa s]")
+    yield_stress: float = Field(ge=0, description="Bingham yield stress tau_B [Pa]")
+    regularisation_time: float = Field(
+        100.0, gt=0, description="Papanastasiou parameter M [s]; larger is closer to ideal Bingham")
+    sound_speed: float = Field(gt=0, description="Artificial sound speed c of the Tait EOS [m/s]")
+    eos_exponent: float = Field(7.0, ge=1.0, le=15.0, description="Exponent r of the Tait EOS [-]")
+
+
+@njit(cache=True, inline="always")
+def bingham_viscosity(gdot, mu_b, tau_b, m):
+    x = m * gdot
+    if x < 1e-8:  # series of (1 - exp(-x)) / gdot = m (1 - x/2 + ...)
+        return mu_b + tau_b * m * (1.0 - 0.5 * x)
+    return mu_b + tau_b * (1.0 - math.exp(-x)) / gdot
+
+
+@njit(parallel=True, fastmath=True, cache=True)
+def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
+    rho0, mu_b, tau_b, m, c, r = prm[0], prm[1], prm[2], prm[3], prm[4], prm[5]
+    for p in prange(p_L.shape[0]):
+        gdot = shear_rate(p_L[p])
+        mu = bingham_viscosity(gdot, mu_b, tau_b, m)
+        set_fluid_stress(p_stress[p], p_L[p], tait_pressure(p_rho[p], rho0, c, r), mu)
+        p_state[p, 0] = gdot
+
+
+@njit(cache=True)
+def _wave_speed(prm, p_rho):
+    return tait_wave_speed(prm[0], prm[4], prm[5], p_rho)
+
+
+class Bingham(Material):
+    name = "bingham"
+    description = "Bingham viscoplastic fluid (Papanastasiou-regularised) with Tait EOS pressure"
+    Params = BinghamParams
+    state_vars = ("shear_rate",)
+    rate_dependent = True
+    stress_kernel = _stress
+    wave_speed_kernel = _wave_speed
+
+    @classmethod
+    def pack(cls, p):
+        return np.array([p.density, p.viscosity, p.yield_stress, p.regularisation_time, p.sound_speed,
+                         p.eos_exponent])
+
+    @classmethod
+    def example_params(cls):
+        return cls.Params(density=2000.0, viscosity=1.0, yield_stress=50.0, sound_speed=30.0)
+
+    def k0(self) -> float:
+        return 1.0
+
+    def stiffness(self) -> float:
+        return float(self.params.density * self.params.sound_speed ** 2)
+
+    def kinematic_viscosity(self) -> float:
+        p = self.params
+        return (p.viscosity + p.yield_stress * p.regularisation_time) / p.density

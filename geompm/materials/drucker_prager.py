@@ -1,0 +1,149 @@
+"""Drucker-Prager elastic-perfectly plastic soil, non-associated flow.
+
+Yield and plastic potential (tension positive, I1 = tr sigma, J2 of the deviator s):
+
+    f = sqrt(J2) + alpha I1 - k <= 0,       g = sqrt(J2) + beta I1
+
+Return mapping in closed form (elastic predictor sigma_tr, see plasticity.py):
+    dlambda = f(sigma_tr) / (G + 9 K alpha beta)
+    s = s_tr (1 - G dlambda / sqrt(J2_tr)),   I1 = I1_tr - 9 K beta dlambda
+and when that would pass the apex (sqrt(J2_tr) < G dlambda) the stress returns
+to the apex, I1 = k / alpha, s = 0.  A tension cut-off caps the mean stress at
+``tension_cutoff`` (default: the apex).  de Souza Neto, Peric & Owen (2008)
+Computational Methods for Plasticity, sec. 8.3.3.
+
+Matching to Mohr-Coulomb (phi, c), with t = tan(phi), s = sin(phi):
+  plane_strain: alpha = t / sqrt(9 + 12 t^2),        k = 3 c / sqrt(9 + 12 t^2)
+  outer (triaxial compression): alpha = 2 s / (sqrt3 (3 - s)), k = 6 c cos(phi) / (sqrt3 (3 - s))
+  inner (triaxial extension):   alpha = 2 s / (sqrt3 (3 + s)), k = 6 c cos(phi) / (sqrt3 (3 + s))
+  middle: the mean of the outer and inner coefficients.
+beta uses the same formula with psi.  The plane-strain match gives the MC
+plane-strain strength for associated flow (psi = phi).
+
+State variables: accumulated equivalent plastic strain eps_p = sum dlambda / sqrt3
+(sqrt(2/3 de_p:de_p) of the deviatoric plastic strain), plastic volumetric
+strain eps_v^p = sum 3 beta dlambda (dilatant positive).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+import numpy as np
+from numba import njit, prange
+from pydantic import Field, model_validator
+
+from .base import Material
+from .plasticity import ElastoplasticParams, elastic_trial, sqrt_j2
+
+SQ3 = math.sqrt(3.0)
+
+
+class DruckerPragerParams(ElastoplasticParams):
+    cone: Literal["plane_strain", "outer", "inner", "middle"] = Field(
+        "plane_strain", description="How the DP cone is matched to Mohr-Coulomb")
+    tension_cutoff: float | None = Field(
+        None, ge=0.0, description="Largest mean stress (tension positive) [Pa]; default the cone apex")
+
+    @model_validator(mode="after")
+    def _dilation(self):
+        return self.check_dilation()
+
+
+def dp_coefficients(angle_deg: float, cone: str) -> tuple[float, float]:
+    """(alpha, k/c) of the DP cone matched to MC with this angle."""
+    phi = math.radians(angle_deg)
+    t, s = math.tan(phi), math.sin(phi)
+    if cone == "plane_strain":
+        q = math.sqrt(9 + 12 * t * t)
+        return t / q, 3 / q
+    out = (2 * s / (SQ3 * (3 - s)), 6 * math.cos(phi) / (SQ3 * (3 - s)))
+    inn = (2 * s / (SQ3 * (3 + s)), 6 * math.cos(phi) / (SQ3 * (3 + s)))
+    if cone == "outer":
+        return out
+    if cone == "inner":
+        return inn
+    return 0.5 * (out[0] + inn[0]), 0.5 * (out[1] + inn[1])
+
+
+@njit(parallel=True, fastmath=False, cache=True)
+def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
+    lam, G, alpha, k, beta, tcut = prm[1], prm[2], prm[3], prm[4], prm[5], prm[6]
+    K = lam + 2.0 * G / 3.0
+    for p in prange(p_L.shape[0]):
+        s = p_stress[p]
+        tr = elastic_trial(s, p_L[p], dt, lam, G)
+        I1 = tr[0] + tr[1] + tr[2]
+        mean = I1 / 3.0
+        tau = sqrt_j2(tr, mean)
+        f = tau + alpha * I1 - k
+        if f <= 0.0 and mean <= tcut:
+            for i in range(6):
+                s[i] = tr[i]
+            continue
+        if f > 0.0:
+            dlam = f / (G + 9.0 * K * alpha * beta)
+            if tau - G * dlam >= 0.0:
+                scale = 1.0 - G * dlam / tau
+                I1n = I1 - 9.0 * K * beta * dlam
+                p_state[p, 0] += dlam / SQ3
+                p_state[p, 1] += 3.0 * beta * dlam
+            else:  # apex return
+                scale = 0.0
+                I1n = k / alpha if alpha > 0.0 else I1
+                p_state[p, 0] += tau / (SQ3 * G)
+                p_state[p, 1] += (I1 - I1n) / (3.0 * K)
+        else:
+            scale = 1.0
+            I1n = I1
+        if I1n / 3.0 > tcut:  # tension cut-off, then back inside the cone
+            p_state[p, 1] += (I1n - 3.0 * tcut) / (3.0 * K)
+            I1n = 3.0 * tcut
+            tmax = k - alpha * I1n
+            t_now = tau * scale
+            if t_now > tmax:
+                scale = max(tmax, 0.0) / tau if tau > 0.0 else 0.0
+        m = I1n / 3.0
+        s[0] = (tr[0] - mean) * scale + m
+        s[1] = (tr[1] - mean) * scale + m
+        s[2] = (tr[2] - mean) * scale + m
+        s[3] = tr[3] * scale
+        s[4] = tr[4] * scale
+        s[5] = tr[5] * scale
+
+
+@njit(cache=True)
+def _wave_speed(prm, p_rho):
+    return math.sqrt((prm[1] + 2.0 * prm[2]) / prm[0])
+
+
+class DruckerPrager(Material):
+    name = "drucker_prager"
+    description = "Drucker-Prager elastic-perfectly plastic soil, non-associated, MC-matched cone"
+    Params = DruckerPragerParams
+    state_vars = ("plastic_strain", "plastic_volumetric_strain")
+    stress_kernel = _stress
+    wave_speed_kernel = _wave_speed
+
+    @classmethod
+    def pack(cls, p):
+        lam, G = p.lame()
+        alpha, kc = dp_coefficients(p.friction_angle, p.cone)
+        beta, _ = dp_coefficients(p.dilation_angle, p.cone)
+        k = kc * p.cohesion
+        apex = k / (3 * alpha) if alpha > 0 else np.inf
+        tcut = apex if p.tension_cutoff is None else min(p.tension_cutoff, apex)
+        return np.array([p.density, lam, G, alpha, k, beta, tcut])
+
+    @classmethod
+    def example_params(cls):
+        return cls.Params(density=2650.0, youngs_modulus=0.84e6, poisson_ratio=0.3, friction_angle=31.0,
+                          cohesion=100.0, dilation_angle=5.0)
+
+    def k0(self) -> float:
+        """Jaky (1944): K0 = 1 - sin(phi)."""
+        return 1.0 - math.sin(math.radians(self.params.friction_angle))
+
+    def stiffness(self) -> float:
+        return float(self.params.youngs_modulus)

@@ -1,0 +1,154 @@
+"""Mohr-Coulomb elastic-perfectly plastic soil, returned to the MC hexagon exactly.
+
+Principal stresses sigma_1 >= sigma_2 >= sigma_3 (tension positive):
+
+    f = (sigma_1 - sigma_3) + (sigma_1 + sigma_3) sin(phi) - 2 c cos(phi) <= 0
+    g = (sigma_1 - sigma_3) + (sigma_1 + sigma_3) sin(psi)
+
+Return mapping in principal stress space (de Souza Neto, Peric & Owen 2008,
+Computational Methods for Plasticity, sec. 8.2, Boxes 8.1-8.3): return to the
+main plane; if that breaks the principal order, return to the edge (two planes
+active: sigma_1 = sigma_2 in triaxial extension, sigma_2 = sigma_3 in triaxial
+compression); if the edge return is inadmissible, return to the apex
+sigma_i = c cot(phi).  The principal directions of the trial stress are kept
+(isotropy).  State variables as in drucker_prager.py.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+from pydantic import model_validator
+
+from .base import Material
+from .plasticity import ElastoplasticParams, elastic_trial
+
+
+class MohrCoulombParams(ElastoplasticParams):
+    @model_validator(mode="after")
+    def _dilation(self):
+        return self.check_dilation()
+
+
+@njit(cache=True, inline="always")
+def _dot(a0, a1, a2, b0, b1, b2):
+    return a0 * b0 + a1 * b1 + a2 * b2
+
+
+@njit(cache=True, inline="always")
+def _eq_strain(e1, e2, e3):
+    """sqrt(2/3 e':e') of a principal plastic strain increment."""
+    m = (e1 + e2 + e3) / 3.0
+    return math.sqrt(2.0 / 3.0 * ((e1 - m) ** 2 + (e2 - m) ** 2 + (e3 - m) ** 2))
+
+
+@njit(cache=True)
+def mc_principal_return(s1, s2, s3, lam, G, sphi, cphi, spsi, c):
+    """Returned principal stresses (s1 >= s2 >= s3) and (d_eps_p_eq, d_eps_v_p)."""
+    fy = 2.0 * c * cphi
+    f = (s1 - s3) + (s1 + s3) * sphi - fy
+    if f <= 0.0:
+        return s1, s2, s3, 0.0, 0.0
+    K = lam + 2.0 * G / 3.0
+    vol = lam * 2.0 * spsi
+    # main plane
+    a0, a1, a2 = vol + 2.0 * G * (1.0 + spsi), vol, vol + 2.0 * G * (-1.0 + spsi)
+    nf0, nf2 = 1.0 + sphi, -1.0 + sphi
+    dl = f / (nf0 * a0 + nf2 * a2)
+    r1, r2, r3 = s1 - dl * a0, s2 - dl * a1, s3 - dl * a2
+    if r1 >= r2 >= r3:
+        return r1, r2, r3, _eq_strain(dl * (1.0 + spsi), 0.0, dl * (-1.0 + spsi)), 2.0 * spsi * dl
+    # edge: second plane chosen by the order that the main return broke
+    if r2 > r1:  # triaxial extension edge, sigma_1 = sigma_2
+        fb = (s2 - s3) + (s2 + s3) * sphi - fy
+        b0, b1, b2 = vol, vol + 2.0 * G * (1.0 + spsi), vol + 2.0 * G * (-1.0 + spsi)
+        nb0, nb1, nb2 = 0.0, 1.0 + sphi, -1.0 + sphi
+    else:  # triaxial compression edge, sigma_2 = sigma_3
+        fb = (s1 - s2) + (s1 + s2) * sphi - fy
+        b0, b1, b2 = vol + 2.0 * G * (1.0 + spsi), vol + 2.0 * G * (-1.0 + spsi), vol
+        nb0, nb1, nb2 = 1.0 + sphi, -1.0 + sphi, 0.0
+    m00 = _dot(nf0, 0.0, nf2, a0, a1, a2)
+    m01 = _dot(nf0, 0.0, nf2, b0, b1, b2)
+    m10 = _dot(nb0, nb1, nb2, a0, a1, a2)
+    m11 = _dot(nb0, nb1, nb2, b0, b1, b2)
+    det = m00 * m11 - m01 * m10
+    dla = (f * m11 - m01 * fb) / det
+    dlb = (m00 * fb - m10 * f) / det
+    r1 = s1 - dla * a0 - dlb * b0
+    r2 = s2 - dla * a1 - dlb * b1
+    r3 = s3 - dla * a2 - dlb * b2
+    tol = 1e-12 * (abs(r1) + abs(r3) + fy + 1.0)
+    if dla >= 0.0 and dlb >= 0.0 and r1 >= r2 - tol and r2 >= r3 - tol and (sphi == 0.0 or
+                                                                          r1 + r2 + r3 <= 3.0 * c * cphi / sphi):
+        ga, gb = 1.0 + spsi, -1.0 + spsi
+        if nb0 == 0.0:  # extension edge: second plane acts on (sigma_2, sigma_3)
+            e1, e2, e3 = dla * ga, dlb * ga, (dla + dlb) * gb
+        else:  # compression edge: second plane acts on (sigma_1, sigma_2)
+            e1, e2, e3 = (dla + dlb) * ga, dlb * gb, dla * gb
+        return r1, r2, r3, _eq_strain(e1, e2, e3), 2.0 * spsi * (dla + dlb)
+    # apex
+    apex = c * cphi / sphi if sphi > 0.0 else (s1 + s2 + s3) / 3.0
+    mean = (s1 + s2 + s3) / 3.0
+    d1, d2, d3 = s1 - mean, s2 - mean, s3 - mean
+    dev = math.sqrt(d1 * d1 + d2 * d2 + d3 * d3)
+    return apex, apex, apex, math.sqrt(2.0 / 3.0) * dev / (2.0 * G), (mean - apex) / K
+
+
+@njit(parallel=True, cache=True)
+def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
+    lam, G, sphi, cphi, spsi, c = prm[1], prm[2], prm[3], prm[4], prm[5], prm[6]
+    n = p_L.shape[0]
+    nchunks = max(1, min(n, 256))
+    for ch in prange(nchunks):
+        M = np.empty((3, 3))
+        for p in range(ch * n // nchunks, (ch + 1) * n // nchunks):
+            s = p_stress[p]
+            tr = elastic_trial(s, p_L[p], dt, lam, G)
+            M[0, 0], M[1, 1], M[2, 2] = tr[0], tr[1], tr[2]
+            M[0, 1] = M[1, 0] = tr[3]
+            M[1, 2] = M[2, 1] = tr[4]
+            M[0, 2] = M[2, 0] = tr[5]
+            w, V = np.linalg.eigh(M)  # ascending: w[2] = sigma_1
+            r1, r2, r3, deq, dvol = mc_principal_return(w[2], w[1], w[0], lam, G, sphi, cphi, spsi, c)
+            if deq == 0.0 and dvol == 0.0:
+                for i in range(6):
+                    s[i] = tr[i]
+                continue
+            p_state[p, 0] += deq
+            p_state[p, 1] += dvol
+            ws = (r3, r2, r1)
+            for i, (a, b) in enumerate(((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))):
+                s[i] = ws[0] * V[a, 0] * V[b, 0] + ws[1] * V[a, 1] * V[b, 1] + ws[2] * V[a, 2] * V[b, 2]
+
+
+@njit(cache=True)
+def _wave_speed(prm, p_rho):
+    return math.sqrt((prm[1] + 2.0 * prm[2]) / prm[0])
+
+
+class MohrCoulomb(Material):
+    name = "mohr_coulomb"
+    description = "Mohr-Coulomb elastic-perfectly plastic soil, exact return to the hexagon with corners"
+    Params = MohrCoulombParams
+    state_vars = ("plastic_strain", "plastic_volumetric_strain")
+    stress_kernel = _stress
+    wave_speed_kernel = _wave_speed
+
+    @classmethod
+    def pack(cls, p):
+        lam, G = p.lame()
+        phi, psi = math.radians(p.friction_angle), math.radians(p.dilation_angle)
+        return np.array([p.density, lam, G, math.sin(phi), math.cos(phi), math.sin(psi), p.cohesion])
+
+    @classmethod
+    def example_params(cls):
+        return cls.Params(density=2650.0, youngs_modulus=0.84e6, poisson_ratio=0.3, friction_angle=31.0,
+                          cohesion=100.0, dilation_angle=5.0)
+
+    def k0(self) -> float:
+        return 1.0 - math.sin(math.radians(self.params.friction_angle))
+
+    def stiffness(self) -> float:
+        return float(self.params.youngs_modulus)

@@ -1,0 +1,5 @@
+"""Reusable test suites for plugins (import them from a third-party package's tests)."""
+
+from .conformance import MATERIAL_CHECKS, check_material
+
+__all__ = ["MATERIAL_CHECKS", "check_material"]
