@@ -1,0 +1,121 @@
+"""mu(I) rheology of dense granular flow, elastoplastic form.
+
+Jop, Forterre & Pouliquen (2006) Nature 441:727:
+
+    |tau| = mu(I) p,   mu(I) = mu_s + (mu_2 - mu_s) / (I_0 / I + 1),
+    I = gamma_dot d / sqrt(p / rho_s)
+
+p mean pressure (compression positive) [Pa], |tau| = sqrt(J2) of the
+deviatoric stress, gamma_dot = sqrt(2 D':D') [1/s], d grain diameter [m],
+rho_s grain density [kg/m3].
+
+Integration (one step, Jaumann-objective): elastic predictor
+sigma_tr = sigma_n + dt (W sigma - sigma W + lambda tr(D) I + 2 G D).  If
+p_tr <= 0 the grains separate and the stress is zero (cohesionless).  Else the
+deviator is capped at mu(I) p_tr with I from the current shear rate and p_tr.
+The elastic branch regularises the law at small strain rates: as
+gamma_dot -> 0, mu -> mu_s and the material responds as a Drucker-Prager-like
+solid with friction mu_s, never as a viscosity that diverges (the failure
+mode of the viscous form eta = mu(I) p / gamma_dot).  The elastic modulus is
+a numerical stiffness: choose it so the elastic strains stay below ~1e-3.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+from pydantic import Field, model_validator
+
+from geompm.materials.base import Material, MaterialParams
+from geompm.materials.fluid import shear_rate
+from geompm.materials.plasticity import elastic_trial, sqrt_j2
+
+
+class MuIParams(MaterialParams):
+    youngs_modulus: float = Field(gt=0, description="Young's modulus E of the grain skeleton [Pa]")
+    poisson_ratio: float = Field(ge=0.0, lt=0.5, description="Poisson's ratio nu [-]")
+    friction_static: float = Field(gt=0, description="mu_s: friction coefficient at I -> 0 [-] (0.38 glass beads)")
+    friction_limit: float = Field(gt=0, description="mu_2: friction coefficient at I -> infinity [-] (0.64)")
+    inertial_number_ref: float = Field(gt=0, description="I_0 [-] (0.279 for glass beads)")
+    grain_diameter: float = Field(gt=0, description="d: grain diameter [m]")
+    grain_density: float = Field(gt=0, description="rho_s: density of the grains [kg/m3]")
+
+    @model_validator(mode="after")
+    def _order(self):
+        if self.friction_limit < self.friction_static:
+            raise ValueError("friction_limit (mu_2) must be >= friction_static (mu_s)")
+        if self.density > self.grain_density:
+            raise ValueError("density (bulk) cannot exceed grain_density")
+        return self
+
+
+@njit(cache=True, inline="always")
+def mu_of_i(inertial, mu_s, mu_2, i0):
+    if inertial <= 0.0:
+        return mu_s
+    return mu_s + (mu_2 - mu_s) / (i0 / inertial + 1.0)
+
+
+@njit(parallel=True, cache=True)
+def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
+    lam, G, mu_s, mu_2, i0, d, rho_s = prm[1], prm[2], prm[3], prm[4], prm[5], prm[6], prm[7]
+    for p in prange(p_L.shape[0]):
+        s = p_stress[p]
+        tr = elastic_trial(s, p_L[p], dt, lam, G)
+        mean = (tr[0] + tr[1] + tr[2]) / 3.0
+        if mean >= 0.0:  # no confinement: grains separate
+            for i in range(6):
+                s[i] = 0.0
+            p_state[p, 0] = 0.0
+            continue
+        pres = -mean
+        inertial = shear_rate(p_L[p]) * d / math.sqrt(pres / rho_s)
+        tau_max = mu_of_i(inertial, mu_s, mu_2, i0) * pres
+        tau = sqrt_j2(tr, mean)
+        scale = 1.0
+        if tau > tau_max:
+            scale = tau_max / tau
+            p_state[p, 1] += (tau - tau_max) / (math.sqrt(3.0) * G)
+        p_state[p, 0] = inertial
+        s[0] = (tr[0] - mean) * scale + mean
+        s[1] = (tr[1] - mean) * scale + mean
+        s[2] = (tr[2] - mean) * scale + mean
+        s[3] = tr[3] * scale
+        s[4] = tr[4] * scale
+        s[5] = tr[5] * scale
+
+
+@njit(cache=True)
+def _wave_speed(prm, p_rho):
+    return math.sqrt((prm[1] + 2.0 * prm[2]) / prm[0])
+
+
+class MuI(Material):
+    name = "mu_i"
+    description = "mu(I) granular rheology (Jop, Forterre & Pouliquen 2006), elastoplastic form"
+    Params = MuIParams
+    state_vars = ("inertial_number", "plastic_strain")
+    stress_kernel = _stress
+    wave_speed_kernel = _wave_speed
+
+    @classmethod
+    def pack(cls, p):
+        E, nu = p.youngs_modulus, p.poisson_ratio
+        lam, G = E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
+        return np.array([p.density, lam, G, p.friction_static, p.friction_limit, p.inertial_number_ref,
+                         p.grain_diameter, p.grain_density])
+
+    @classmethod
+    def example_params(cls):
+        """Glass beads of Jop et al. (2006): mu_s = tan 20.9 deg, mu_2 = tan 32.76 deg, I_0 = 0.279."""
+        return cls.Params(density=1500.0, youngs_modulus=1.0e6, poisson_ratio=0.3, friction_static=0.382,
+                          friction_limit=0.643, inertial_number_ref=0.279, grain_diameter=0.5e-3,
+                          grain_density=2500.0)
+
+    def k0(self) -> float:
+        return 1.0 - math.sin(math.atan(self.params.friction_static))
+
+    def stiffness(self) -> float:
+        return float(self.params.youngs_modulus)
