@@ -10,7 +10,6 @@ below 1% over 3 periods, APIC with quadratic B-splines.
 """
 
 import numpy as np
-import pytest
 
 from geompm.api import scene_from_file
 from geompm.engine.scheduler import Simulation

@@ -17,7 +17,6 @@ it off after an initial stage.
 
 from __future__ import annotations
 
-import numpy as np
 from numba import njit, prange
 from pydantic import Field
 

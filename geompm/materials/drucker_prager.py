@@ -34,8 +34,7 @@ import numpy as np
 from numba import njit, prange
 from pydantic import Field, model_validator
 
-from .base import Material
-from .plasticity import ElastoplasticParams, elastic_trial, sqrt_j2
+from .plasticity import ElastoplasticParams, FrictionalMaterial, elastic_trial, set_scaled_deviator, sqrt_j2
 
 SQ3 = math.sqrt(3.0)
 
@@ -104,27 +103,15 @@ def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
             t_now = tau * scale
             if t_now > tmax:
                 scale = max(tmax, 0.0) / tau if tau > 0.0 else 0.0
-        m = I1n / 3.0
-        s[0] = (tr[0] - mean) * scale + m
-        s[1] = (tr[1] - mean) * scale + m
-        s[2] = (tr[2] - mean) * scale + m
-        s[3] = tr[3] * scale
-        s[4] = tr[4] * scale
-        s[5] = tr[5] * scale
+        set_scaled_deviator(s, tr, mean, scale, I1n / 3.0)
 
 
-@njit(cache=True)
-def _wave_speed(prm, p_rho):
-    return math.sqrt((prm[1] + 2.0 * prm[2]) / prm[0])
-
-
-class DruckerPrager(Material):
+class DruckerPrager(FrictionalMaterial):
     name = "drucker_prager"
     description = "Drucker-Prager elastic-perfectly plastic soil, non-associated, MC-matched cone"
     Params = DruckerPragerParams
     state_vars = ("plastic_strain", "plastic_volumetric_strain")
     stress_kernel = _stress
-    wave_speed_kernel = _wave_speed
 
     @classmethod
     def pack(cls, p):
@@ -140,10 +127,3 @@ class DruckerPrager(Material):
     def example_params(cls):
         return cls.Params(density=2650.0, youngs_modulus=0.84e6, poisson_ratio=0.3, friction_angle=31.0,
                           cohesion=100.0, dilation_angle=5.0)
-
-    def k0(self) -> float:
-        """Jaky (1944): K0 = 1 - sin(phi)."""
-        return 1.0 - math.sin(math.radians(self.params.friction_angle))
-
-    def stiffness(self) -> float:
-        return float(self.params.youngs_modulus)

@@ -11,14 +11,12 @@ P-wave speed c_p = sqrt((lambda + 2 G) / rho) bounds the time step.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numba import njit, prange
 from pydantic import Field
 
-from ..kernels.voigt import jaumann_increment
 from .base import Material, MaterialParams
+from .plasticity import elastic_trial, elastic_wave_speed
 
 
 class LinearElasticParams(MaterialParams):
@@ -28,24 +26,11 @@ class LinearElasticParams(MaterialParams):
 
 @njit(parallel=True, fastmath=True, cache=True)
 def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
-    lam = prm[1]
-    two_g = 2.0 * prm[2]
+    lam, G = prm[1], prm[2]
     for p in prange(p_L.shape[0]):
-        L = p_L[p]
-        s = p_stress[p]
-        jz = jaumann_increment(s, L, dt)
-        tr = (L[0, 0] + L[1, 1] + L[2, 2]) * dt
-        s[0] += lam * tr + two_g * L[0, 0] * dt + jz[0]
-        s[1] += lam * tr + two_g * L[1, 1] * dt + jz[1]
-        s[2] += lam * tr + two_g * L[2, 2] * dt + jz[2]
-        s[3] += two_g * 0.5 * (L[0, 1] + L[1, 0]) * dt + jz[3]
-        s[4] += two_g * 0.5 * (L[1, 2] + L[2, 1]) * dt + jz[4]
-        s[5] += two_g * 0.5 * (L[0, 2] + L[2, 0]) * dt + jz[5]
-
-
-@njit(cache=True)
-def _wave_speed(prm, p_rho):
-    return math.sqrt((prm[1] + 2.0 * prm[2]) / prm[0])
+        tr = elastic_trial(p_stress[p], p_L[p], dt, lam, G)
+        for i in range(6):
+            p_stress[p, i] = tr[i]
 
 
 class LinearElastic(Material):
@@ -53,7 +38,7 @@ class LinearElastic(Material):
     description = "Isotropic linear elasticity (Hooke) in rate form with the Jaumann stress rate"
     Params = LinearElasticParams
     stress_kernel = _stress
-    wave_speed_kernel = _wave_speed
+    wave_speed_kernel = elastic_wave_speed
 
     @classmethod
     def pack(cls, params):

@@ -22,8 +22,7 @@ import numpy as np
 from numba import njit, prange
 from pydantic import model_validator
 
-from .base import Material
-from .plasticity import ElastoplasticParams, elastic_trial
+from .plasticity import ElastoplasticParams, FrictionalMaterial, elastic_trial
 
 
 class MohrCoulombParams(ElastoplasticParams):
@@ -123,18 +122,12 @@ def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
                 s[i] = ws[0] * V[a, 0] * V[b, 0] + ws[1] * V[a, 1] * V[b, 1] + ws[2] * V[a, 2] * V[b, 2]
 
 
-@njit(cache=True)
-def _wave_speed(prm, p_rho):
-    return math.sqrt((prm[1] + 2.0 * prm[2]) / prm[0])
-
-
-class MohrCoulomb(Material):
+class MohrCoulomb(FrictionalMaterial):
     name = "mohr_coulomb"
     description = "Mohr-Coulomb elastic-perfectly plastic soil, exact return to the hexagon with corners"
     Params = MohrCoulombParams
     state_vars = ("plastic_strain", "plastic_volumetric_strain")
     stress_kernel = _stress
-    wave_speed_kernel = _wave_speed
 
     @classmethod
     def pack(cls, p):
@@ -146,9 +139,3 @@ class MohrCoulomb(Material):
     def example_params(cls):
         return cls.Params(density=2650.0, youngs_modulus=0.84e6, poisson_ratio=0.3, friction_angle=31.0,
                           cohesion=100.0, dilation_angle=5.0)
-
-    def k0(self) -> float:
-        return 1.0 - math.sin(math.radians(self.params.friction_angle))
-
-    def stiffness(self) -> float:
-        return float(self.params.youngs_modulus)

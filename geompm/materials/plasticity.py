@@ -1,15 +1,21 @@
-"""Shared pieces of the elastoplastic laws: elastic constants, elastic predictor.
+"""Shared pieces of the elastoplastic laws: elastic constants, elastic predictor,
+the deviator scaling of a radial return, the elastic wave speed and a base class.
+
+Kernels that use ``elastic_wave_speed`` pack their parameters as
+[density, lambda, G, ...].
 
 The trial stress of a step is the Jaumann-rotated old stress plus the elastic
 increment:  sigma_tr = sigma_n + dt (W sigma - sigma W) + dt (lambda tr(D) I + 2 G D).
 """
+
+import math
 
 import numpy as np
 from numba import njit
 from pydantic import Field
 
 from ..kernels.voigt import jaumann_increment
-from .base import MaterialParams
+from .base import Material, MaterialParams
 
 
 class ElastoplasticParams(MaterialParams):
@@ -51,3 +57,33 @@ def sqrt_j2(s, mean):
     d2 = s[2] - mean
     return np.sqrt(0.5 * (d0 * d0 + d1 * d1 + d2 * d2) + s[3] * s[3] + s[4] * s[4] + s[5] * s[5])
 
+
+
+@njit(cache=True, inline="always")
+def set_scaled_deviator(s, tr, mean, scale, new_mean):
+    """s <- scale * dev(tr) + new_mean I (Voigt, in place): the end of a radial return."""
+    s[0] = (tr[0] - mean) * scale + new_mean
+    s[1] = (tr[1] - mean) * scale + new_mean
+    s[2] = (tr[2] - mean) * scale + new_mean
+    s[3] = tr[3] * scale
+    s[4] = tr[4] * scale
+    s[5] = tr[5] * scale
+
+
+@njit(cache=True)
+def elastic_wave_speed(prm, p_rho):
+    """P-wave speed sqrt((lambda + 2G) / rho0) [m/s] for prm = [rho0, lambda, G, ...]."""
+    return math.sqrt((prm[1] + 2.0 * prm[2]) / prm[0])
+
+
+class FrictionalMaterial(Material):
+    """Base of the Mohr-Coulomb-type soil laws (ElastoplasticParams)."""
+
+    wave_speed_kernel = elastic_wave_speed
+
+    def k0(self) -> float:
+        """Jaky (1944): K0 = 1 - sin(phi)."""
+        return 1.0 - math.sin(math.radians(self.params.friction_angle))
+
+    def stiffness(self) -> float:
+        return float(self.params.youngs_modulus)

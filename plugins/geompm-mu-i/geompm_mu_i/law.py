@@ -30,7 +30,7 @@ from pydantic import Field, model_validator
 
 from geompm.materials.base import Material, MaterialParams
 from geompm.materials.fluid import shear_rate
-from geompm.materials.plasticity import elastic_trial, sqrt_j2
+from geompm.materials.plasticity import elastic_trial, elastic_wave_speed, set_scaled_deviator, sqrt_j2
 
 
 class MuIParams(MaterialParams):
@@ -79,17 +79,7 @@ def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
             scale = tau_max / tau
             p_state[p, 1] += (tau - tau_max) / (math.sqrt(3.0) * G)
         p_state[p, 0] = inertial
-        s[0] = (tr[0] - mean) * scale + mean
-        s[1] = (tr[1] - mean) * scale + mean
-        s[2] = (tr[2] - mean) * scale + mean
-        s[3] = tr[3] * scale
-        s[4] = tr[4] * scale
-        s[5] = tr[5] * scale
-
-
-@njit(cache=True)
-def _wave_speed(prm, p_rho):
-    return math.sqrt((prm[1] + 2.0 * prm[2]) / prm[0])
+        set_scaled_deviator(s, tr, mean, scale, mean)
 
 
 class MuI(Material):
@@ -98,7 +88,7 @@ class MuI(Material):
     Params = MuIParams
     state_vars = ("inertial_number", "plastic_strain")
     stress_kernel = _stress
-    wave_speed_kernel = _wave_speed
+    wave_speed_kernel = elastic_wave_speed
 
     @classmethod
     def pack(cls, p):
