@@ -37,6 +37,7 @@ class Scene:
     musl: bool
     apic_dinv: float
     nu_max: float
+    base_dir: object = None  # folder of the case file: relative paths (meshes) start there
     boundaries: list = field(default_factory=list)
     obstacles: list = field(default_factory=list)
     damping: list = field(default_factory=list)
@@ -137,10 +138,11 @@ def assemble(loaded: LoadedCase) -> Scene:
         apic_dinv=(1.0 / (APIC_D_FACTOR[kind] * h * h)) if APIC_D_FACTOR[kind] > 0 else 0.0,
         nu_max=max((m.kinematic_viscosity() for m in materials), default=0.0),
         case_raw=loaded.raw,
+        base_dir=loaded.base_dir,
     )
     for attr in ("boundaries", "obstacles", "damping"):
         for r in getattr(loaded, attr):
-            stage = r.cls(r.params, r.label)
+            stage = r.cls(r.params, r.label, r.path)
             stage.setup(scene)
             getattr(scene, attr).append(stage)
     for r, spec in zip(loaded.outputs, loaded.case.outputs):

@@ -92,6 +92,9 @@ def cmd_run(args) -> int:
     except SimulationError as exc:
         log.error(f"run stopped at step {sim.step_count}, t = {sim.time:.6g} s: {exc}")
         return 3
+    for stage in scene.boundaries + scene.obstacles + scene.damping:
+        if stage.summary():
+            log.info(stage.summary())
     log.info(f"done: {summary.steps} steps to t = {summary.sim_time:.6g} s in {summary.wall_seconds:.2f} s wall, "
              f"{summary.particle_steps_per_second:.3g} particle-steps/s")
     return 0

@@ -17,15 +17,20 @@ from .plugin import Plugin
 
 
 class Stage(Plugin):
-    def __init__(self, params, label: str):
+    def __init__(self, params, label: str, json_path: str = ""):
         self.params = params
         self.label = label
+        self.json_path = json_path  # where the stage sits in the case, for error messages
 
     def setup(self, scene) -> None:
         """Runs once after the scene is assembled (select nodes, build fields)."""
 
     def series(self) -> dict[str, float]:
         return {}
+
+    def summary(self) -> str:
+        """A line for the end of a run (e.g. an obstacle's peak force), or ''."""
+        return ""
 
 
 class GridStage(Stage):

@@ -1,15 +1,9 @@
 """Rigid wall on a face of the grid (``side`` x-, x+, y-, y+, z-, z+).
 
 Acts on the nodes on and beyond the face (global index <= 0 for a '-' side,
->= ncells for a '+' side), with n the unit normal pointing into the domain and
-v_n = v . n the normal grid velocity:
-
-- ``fixed``: v = 0 (no slip);
-- ``slip``: if v_n < 0 the normal component is removed (free to separate);
-- ``friction``: if v_n < 0 the normal component is removed and the tangential
-  velocity v_t is reduced by mu |v_n|, never reversed:
-  v_t <- v_t max(0, 1 - mu |v_n| / |v_t|)  (Coulomb friction in velocity form,
-  Bardenhagen, Brackbill & Sulsky 2000, Comput. Methods Appl. Mech. Eng. 187:529).
+>= ncells for a '+' side), with the unit normal pointing into the domain, by
+the rule of contact.py: ``fixed`` (no slip), ``slip`` (free to separate) or
+``friction`` (Coulomb, coefficient ``friction``).
 """
 
 from __future__ import annotations
@@ -22,9 +16,9 @@ from pydantic import Field
 
 from ..plugin import Params
 from ..stages import GridStage
+from .contact import CONDITIONS, apply_condition
 
 SIDES = ("x-", "x+", "y-", "y+", "z-", "z+")
-CONDITIONS = {"fixed": 0, "slip": 1, "friction": 2}
 
 
 class WallParams(Params):
@@ -49,23 +43,8 @@ def wall_apply(g_vel, g_mass, lo, nloc, axis, normal, first, last, condition, mu
         for i in range(i0, i1 + 1):
             for q in range(inner):
                 idx = (o * nloc[axis] + i) * inner + q
-                if g_mass[idx] <= 0.0:
-                    continue
-                vn = g_vel[idx, axis] * normal
-                if condition == 0:
-                    for a in range(d):
-                        g_vel[idx, a] = 0.0
-                elif vn < 0.0:
-                    g_vel[idx, axis] = 0.0
-                    if condition == 2:
-                        vt = 0.0
-                        for a in range(d):
-                            vt += g_vel[idx, a] * g_vel[idx, a]
-                        vt = np.sqrt(vt)
-                        if vt > 0.0:
-                            scale = max(0.0, 1.0 - mu * (-vn) / vt)
-                            for a in range(d):
-                                g_vel[idx, a] *= scale
+                if g_mass[idx] > 0.0:
+                    apply_condition(g_vel, idx, normal, condition, mu)
 
 
 class Wall(GridStage):
@@ -83,7 +62,8 @@ class Wall(GridStage):
         self.axis = SIDES.index(self.params.side) // 2
         minus = self.params.side.endswith("-")
         n = int(scene.grid.ncells[self.axis])
-        self.normal = 1.0 if minus else -1.0
+        self.normal = np.zeros(scene.dim)
+        self.normal[self.axis] = 1.0 if minus else -1.0
         self.first, self.last = (-(1 << 40), 0) if minus else (n, 1 << 40)
         self.condition = CONDITIONS[self.params.condition]
 

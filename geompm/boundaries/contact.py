@@ -1,0 +1,42 @@
+"""The velocity rule shared by every rigid boundary and obstacle on grid nodes.
+
+For a node with velocity v (relative to the rigid surface) and unit normal n
+pointing away from the surface into the material, v_n = v . n:
+
+- fixed (0): v = 0 (no slip);
+- slip (1): if v_n < 0 the normal component is removed;
+- friction (2): if v_n < 0 the normal component is removed and the
+  tangential part scaled by max(0, 1 - mu |v_n| / |v_t|): Coulomb friction in
+  velocity form, the tangential impulse never exceeding mu times the normal one
+  and never reversing the sliding direction (Bardenhagen, Brackbill & Sulsky
+  2000, Comput. Methods Appl. Mech. Eng. 187:529).
+"""
+
+import math
+
+from numba import njit
+
+CONDITIONS = {"fixed": 0, "slip": 1, "friction": 2}
+
+
+@njit(cache=True, inline="always")
+def apply_condition(g_vel, idx, normal, condition, mu):
+    """Apply the rule to node ``idx`` of ``g_vel`` (nn, d) in place; normal (d,) unit."""
+    d = g_vel.shape[1]
+    if condition == 0:
+        for a in range(d):
+            g_vel[idx, a] = 0.0
+        return
+    vn = 0.0
+    for a in range(d):
+        vn += g_vel[idx, a] * normal[a]
+    if vn >= 0.0:
+        return
+    vt2 = 0.0
+    for a in range(d):
+        g_vel[idx, a] -= vn * normal[a]
+        vt2 += g_vel[idx, a] * g_vel[idx, a]
+    if condition == 2 and vt2 > 0.0:
+        scale = max(0.0, 1.0 - mu * (-vn) / math.sqrt(vt2))
+        for a in range(d):
+            g_vel[idx, a] *= scale

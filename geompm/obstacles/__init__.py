@@ -1,0 +1,1 @@
+"""Rigid obstacles (geompm.obstacles entry-point group)."""
