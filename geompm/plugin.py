@@ -29,3 +29,9 @@ class Plugin:
     def check(cls, params, case) -> list[tuple[str, str]]:
         """Problems as (path relative to the plugin's entry, message)."""
         return []
+
+
+def vector_length_problems(params, case, keys) -> list[tuple[str, str]]:
+    """(key, message) for every vector parameter in ``keys`` whose length is not the case's dimension."""
+    return [(k, f"must have {case.dimension} entries (one per dimension)")
+            for k in keys if getattr(params, k) is not None and len(getattr(params, k)) != case.dimension]

@@ -15,7 +15,7 @@ import numpy as np
 from numba import njit, prange
 from pydantic import Field, field_validator
 
-from ..plugin import Params
+from ..plugin import Params, vector_length_problems
 from ..stages import GridStage
 from .contact import CONDITIONS, apply_condition
 
@@ -57,11 +57,7 @@ class Plane(GridStage):
 
     @classmethod
     def check(cls, params, case):
-        out = []
-        for key in ("point", "normal"):
-            if len(getattr(params, key)) != case.dimension:
-                out.append((key, f"must have {case.dimension} entries (one per dimension)"))
-        return out
+        return vector_length_problems(params, case, ("point", "normal"))
 
     def setup(self, scene):
         n = np.asarray(self.params.normal, dtype=float)

@@ -14,6 +14,7 @@ from typing import Literal
 import numpy as np
 from pydantic import Field
 
+from ..plugin import vector_length_problems
 from .base import ObstacleParams, RigidObstacle
 
 
@@ -32,11 +33,6 @@ class CylinderParams(SphereParams):
     length: float | None = Field(None, gt=0, description="Length along the axis [m] (3D)")
 
 
-def _dim_check(params, case, keys):
-    return [(k, f"must have {case.dimension} entries (one per dimension)")
-            for k in keys if len(getattr(params, k)) != case.dimension]
-
-
 class BoxObstacle(RigidObstacle):
     name = "box"
     description = "Rigid axis-aligned box obstacle (exact signed distance)"
@@ -44,7 +40,7 @@ class BoxObstacle(RigidObstacle):
 
     @classmethod
     def check(cls, params, case):
-        out = _dim_check(params, case, ("min", "max"))
+        out = vector_length_problems(params, case, ("min", "max", "velocity", "moment_point"))
         if not out and any(a >= b for a, b in zip(params.min, params.max)):
             out.append(("max", "every entry must exceed the same entry of 'min'"))
         return out
@@ -68,7 +64,7 @@ class SphereObstacle(RigidObstacle):
 
     @classmethod
     def check(cls, params, case):
-        return _dim_check(params, case, ("center",))
+        return vector_length_problems(params, case, ("center", "velocity", "moment_point"))
 
     def bounds(self):
         c = np.asarray(self.params.center, float)
@@ -85,7 +81,7 @@ class CylinderObstacle(SphereObstacle):
 
     @classmethod
     def check(cls, params, case):
-        out = _dim_check(params, case, ("center",))
+        out = vector_length_problems(params, case, ("center", "velocity", "moment_point"))
         if case.dimension == 3 and params.length is None:
             out.append(("length", "a 3D cylinder needs its 'length' along 'axis'"))
         return out

@@ -27,7 +27,7 @@ from pydantic import Field
 
 from ..boundaries.contact import CONDITIONS, apply_condition
 from ..errors import CaseError
-from ..plugin import Params
+from ..plugin import Params, vector_length_problems
 from ..stages import GridStage
 
 
@@ -156,6 +156,10 @@ class RigidObstacle(GridStage):
     """Base of every rigid obstacle: subclasses give ``bounds()`` and ``signed_distance(points)``."""
 
     Params = ObstacleParams
+
+    @classmethod
+    def check(cls, params, case):
+        return vector_length_problems(params, case, ("velocity", "moment_point"))
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         raise NotImplementedError

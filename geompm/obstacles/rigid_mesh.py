@@ -36,7 +36,7 @@ class RigidMesh(RigidObstacle):
     def check(cls, params, case):
         if case.dimension != 3:
             return [("type", "a mesh obstacle needs a 3D case; use box, sphere or cylinder in 2D")]
-        return []
+        return super().check(params, case)
 
     def setup(self, scene):
         import trimesh
