@@ -56,3 +56,23 @@ def test_run_refuses_to_overwrite(tmp_path, capsys):
     assert main(["run", str(case), "--out", str(out), "--quiet"]) == 2
     assert "--overwrite" in capsys.readouterr().err
     assert main(["run", str(case), "--out", str(out), "--quiet", "--overwrite"]) == 0
+
+
+def test_series_normalised_columns(tmp_path):
+    """T_star = t sqrt(g/h0), X_star = (x_front - l0)/l0, K_star = E_k/(m g h0) (source study, section 3.1).
+
+    Tiny case: block 0.4 x 0.4 m from x = 0.2 m, rho = 2000 kg/m3 -> m = 320 kg/m; l0 = 0.4, h0 = 0.4,
+    front measured along +x from x = 0.2 m.
+    """
+    case = tiny_case()
+    case["outputs"] = [{"writer": "series", "interval": 0.01, "normalise": {
+        "length": 0.4, "height": 0.4, "origin": [0.2, 0.0], "direction": [2.0, 0.0]}}]
+    f = tmp_path / "tiny.json"
+    f.write_text(json.dumps(case))
+    assert main(["run", str(f), "--out", str(tmp_path / "run"), "--quiet"]) == 0
+    s = np.genfromtxt(tmp_path / "run" / "series.csv", delimiter=",", names=True)
+    g = 9.81
+    np.testing.assert_allclose(s["T_star"], s["time"] * np.sqrt(g / 0.4), rtol=1e-9)
+    np.testing.assert_allclose(s["X_star"], (s["front_x"] - 0.2 - 0.4) / 0.4, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(s["K_star"], s["kinetic_energy"] / (320.0 * g * 0.4), rtol=1e-9)
+    assert s["X_star"][0] == pytest.approx(-0.0625, abs=1e-12)  # front particle at 0.575 m: half a spacing inside

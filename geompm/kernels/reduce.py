@@ -74,3 +74,16 @@ def first_outside(p_x, lo_bound, hi_bound):
             if not (lo_bound[a] <= x <= hi_bound[a]):
                 return p
     return -1
+
+
+@njit(parallel=True, cache=True)
+def max_projection(p_x, origin, direction):
+    """max over particles of (x_p - origin) . direction [m]."""
+    n, d = p_x.shape
+    m = -np.inf
+    for p in prange(n):
+        s = 0.0
+        for a in range(d):
+            s += (p_x[p, a] - origin[a]) * direction[a]
+        m = max(m, s)
+    return m

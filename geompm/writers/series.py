@@ -2,31 +2,78 @@
 
 Columns: time [s], step, dt [s], kinetic_energy [J; J/m in 2D plane strain],
 front_x [m] (largest particle x), then the columns that stages add (obstacle
-forces, ...).  Each row is written with one call and flushed, so a crash
-loses at most the row being written.
+forces, ...).  With ``normalise`` it adds the dimensionless quantities of
+granular-flow studies (e.g. the source study, section 3.1):
+
+    T_star = t sqrt(g / h0),   X_star = (x_front - l0) / l0,   K_star = E_k / (m g h0)
+
+with x_front the largest (x_p - origin) . direction (the front measured along
+the slope from the column's back), m the total mass and g = |gravity|.  Each
+row is written with one call and flushed, so a crash loses at most the row
+being written.
 """
 
 from __future__ import annotations
 
 import os
 
+import numpy as np
+from pydantic import Field
+
+from ..kernels.reduce import max_projection
 from ..plugin import Params
 from .base import Writer
+
+
+class Normalise(Params):
+    length: float = Field(gt=0, description="l0: initial length of the mass along the slope [m]")
+    height: float = Field(gt=0, description="h0: initial height of the mass [m]")
+    origin: list[float] = Field(description="Back of the initial mass, where the front is measured from [m]")
+    direction: list[float] = Field(description="Direction along the slope in which the front is measured")
+
+
+class SeriesParams(Params):
+    normalise: Normalise | None = Field(None, description="Add T_star, X_star, K_star columns")
 
 
 class SeriesWriter(Writer):
     name = "series"
     description = "series.csv: time, step, dt, kinetic energy, front position and stage quantities"
-    Params = Params
+    Params = SeriesParams
+
+    @classmethod
+    def check(cls, params, case):
+        nm = params.normalise
+        if nm is None:
+            return []
+        return [(f"normalise.{k}", f"must have {case.dimension} entries (one per dimension)")
+                for k in ("origin", "direction") if len(getattr(nm, k)) != case.dimension]
+
+    def _row(self, sim):
+        row = sim.series_row()
+        nm = self.params.normalise
+        if nm is not None:
+            st = sim.state
+            g = float(np.linalg.norm(sim.scene.gravity))
+            front = max_projection(st.p_x, self.origin, self.direction)
+            row["T_star"] = sim.time * np.sqrt(g / nm.height)
+            row["X_star"] = (front - nm.length) / nm.length
+            row["K_star"] = row["kinetic_energy"] / (self.mass * g * nm.height)
+        return row
 
     def open(self, run_dir, sim):
-        self.columns = list(sim.series_row())
+        nm = self.params.normalise
+        if nm is not None:
+            self.origin = np.asarray(nm.origin, float)
+            self.direction = np.asarray(nm.direction, float) / np.linalg.norm(nm.direction)
+            self.mass = float(sim.state.p_mass.sum())
+        self.columns = list(self._row(sim))
         self.path = run_dir / "series.csv"
         self.fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_APPEND, 0o644)
         os.write(self.fd, (",".join(self.columns) + "\n").encode())
 
     def write(self, sim):
-        row = sim.series_row()
+        row = self._row(sim)
         line = ",".join(repr(int(row[c])) if c == "step" else f"{row[c]:.10g}" for c in self.columns)
         os.write(self.fd, (line + "\n").encode())
 
