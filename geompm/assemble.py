@@ -53,35 +53,49 @@ def _body_velocity(body, pts, dim):
     return np.broadcast_to(v0, pts.shape).copy()
 
 
-def geostatic_stress(pts, rho, gravity, k0, spacing) -> np.ndarray:
-    """sigma_v = -rho |g| depth, sigma_h = K0 sigma_v (Voigt, tension positive).
+def geostatic_stress(pts, masses, k0, gravity, h) -> np.ndarray:
+    """Layered geostatic stress (Voigt, tension positive) from the weight of everything above.
 
-    depth is measured against the -g direction from the top particle of the
-    same column (columns are bins one particle spacing wide across the gravity
-    direction), plus half a spacing, i.e. to the body's free surface.
+    Particles are binned in columns of width h across the gravity direction;
+    in each column, sigma_v of a particle is minus |g| times the mass above it
+    (half its own) per unit column area h^(d-1), so layered bodies carry their
+    overburden; sigma_h = K0 sigma_v with each particle's own K0.  For a
+    uniform body that fills whole cells this is exactly rho |g| depth.
     """
     n, dim = pts.shape
-    gnorm = float(np.linalg.norm(gravity))
     out = np.zeros((n, 6))
-    if gnorm == 0.0:
+    gnorm = float(np.linalg.norm(gravity))
+    if gnorm == 0.0 or n == 0:
         return out
     ghat = gravity / gnorm
     height = -pts @ ghat
     trans = pts - np.outer(pts @ ghat, ghat)
-    keys = np.floor(trans / spacing + 1e-9).astype(np.int64)
+    keys = np.floor(trans / h + 1e-9).astype(np.int64)
     _, col = np.unique(keys, axis=0, return_inverse=True)
     col = col.ravel()
-    top = np.full(col.max() + 1, -np.inf)
-    np.maximum.at(top, col, height)
-    depth = top[col] - height + 0.5 * spacing
-    sv = -rho * gnorm * depth
+    order = np.argsort(col, kind="stable")
+    csum = np.empty(n)
+    for start, stop in _runs(col[order]):
+        idx = order[start:stop]
+        # particles at the same height form one level; a level carries the levels above plus half itself
+        levels, inv = np.unique(-np.round(height[idx] / (1e-9 * h)), return_inverse=True)
+        level_mass = np.bincount(inv.ravel(), weights=masses[idx], minlength=len(levels))
+        above = np.cumsum(level_mass) - level_mass
+        csum[idx] = (above + 0.5 * level_mass)[inv.ravel()]
+    sv = -gnorm * csum / h ** (dim - 1)
     sh = k0 * sv
     g3 = np.zeros(3)
     g3[:dim] = ghat
-    # sigma = sh I + (sv - sh) g g^T
     for slot, (a, b) in enumerate(((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))):
         out[:, slot] = (sv - sh) * g3[a] * g3[b] + (sh if a == b else 0.0)
     return out
+
+
+def _runs(sorted_keys):
+    """(start, stop) of each run of equal values in a sorted array."""
+    edges = np.flatnonzero(np.diff(sorted_keys)) + 1
+    bounds = np.r_[0, edges, len(sorted_keys)]
+    return zip(bounds[:-1], bounds[1:])
 
 
 def assemble(loaded: LoadedCase) -> Scene:
@@ -96,7 +110,7 @@ def assemble(loaded: LoadedCase) -> Scene:
 
     names = list(loaded.materials)
     materials = [loaded.materials[k].cls(loaded.materials[k].params) for k in names]
-    xs, vs, ms, vols, mids, bids, sigs = [], [], [], [], [], [], []
+    xs, vs, ms, vols, mids, bids, k0s, geo = [], [], [], [], [], [], [], []
     for b, body in enumerate(case.bodies):
         mid = names.index(body.material)
         mat = materials[mid]
@@ -109,20 +123,22 @@ def assemble(loaded: LoadedCase) -> Scene:
         ms.append(np.full(len(pts), vol * mat.density))
         mids.append(np.full(len(pts), mid, dtype=np.int32))
         bids.append(np.full(len(pts), b, dtype=np.int32))
-        if body.initial_stress == "geostatic":
-            sigs.append(geostatic_stress(pts, mat.density, gravity, mat.k0(), h / ppc))
-        else:
-            sigs.append(np.zeros((len(pts), 6)))
+        geostatic = body.initial_stress == "geostatic"
+        geo.append(np.full(len(pts), geostatic))
+        k0s.append(np.full(len(pts), mat.k0() if geostatic else 0.0))
+    p_x, p_mass = np.concatenate(xs), np.concatenate(ms)
+    # overburden from every body; stress only where the body asks for it
+    stress = geostatic_stress(p_x, p_mass, np.concatenate(k0s), gravity, h) * np.concatenate(geo)[:, None]
     p_material = np.concatenate(mids)
     order = np.argsort(p_material, kind="stable")
     state = ParticleState(
-        p_x=np.ascontiguousarray(np.concatenate(xs)[order]),
+        p_x=np.ascontiguousarray(p_x[order]),
         p_v=np.ascontiguousarray(np.concatenate(vs)[order]),
-        p_mass=np.concatenate(ms)[order],
+        p_mass=p_mass[order],
         p_vol0=np.concatenate(vols)[order],
         p_material=p_material[order],
         p_body=np.concatenate(bids)[order],
-        p_stress=np.ascontiguousarray(np.concatenate(sigs)[order]),
+        p_stress=np.ascontiguousarray(stress[order]),
     )
     counts = np.bincount(state.p_material, minlength=len(materials))
     starts = np.r_[0, np.cumsum(counts)]
