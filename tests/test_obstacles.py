@@ -112,3 +112,19 @@ def test_stl_errors_are_refused_before_any_work(tmp_path, capsys):
         assert main(["validate", str(f)]) == 2
         err = capsys.readouterr().err
         assert "obstacles.0" in err and words in err, err
+
+
+def test_force_history_plot(tmp_path):
+    """geompm.plotting draws an obstacle's force history to a non-empty PNG."""
+    from geompm.plotting import obstacle_names, plot_obstacle_forces
+
+    raw = _drop(2, {"type": "box", "name": "wall", "min": [0.2, 0.1], "max": [0.8, 0.3]}, 0.02, end=0.15)
+    raw["outputs"] = [{"writer": "series", "interval": 0.0}]
+    f = tmp_path / "case.json"
+    f.write_text(json.dumps(raw))
+    assert main(["run", str(f), "--out", str(tmp_path / "run"), "--quiet"]) == 0
+    series = tmp_path / "run" / "series.csv"
+    assert obstacle_names(np.genfromtxt(series, delimiter=",", names=True).dtype.names) == ["wall"]
+    png = plot_obstacle_forces(series, tmp_path / "force.png")
+    data = png.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000
