@@ -31,8 +31,11 @@ class Simulation:
         self.scene = scene
         self.state = scene.state
         self.buffers = GridBuffers(scene.grid, nchunks)
-        # damping first: boundaries and obstacles must have the last word on grid velocities
-        stages = scene.damping + scene.boundaries + scene.obstacles
+        # periodic folding first (it merges ghost nodes), then damping; boundaries and obstacles
+        # must have the last word on grid velocities
+        periodic = [b for b in scene.boundaries if getattr(b, "merges_nodes", False)]
+        others = [b for b in scene.boundaries if not getattr(b, "merges_nodes", False)]
+        stages = periodic + scene.damping + others + scene.obstacles
         self.grid_stages = [s for s in stages if isinstance(s, GridStage)]
         self.particle_stages = [s for s in stages if isinstance(s, ParticleStage)]
         self.mass_eps = 1e-9 * float(self.state.p_mass.min())
