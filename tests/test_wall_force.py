@@ -12,7 +12,6 @@ debris_flow_impact_design_formulas.csv).  The hydrostatic part rho g d^2 / 2
 is 1% of rho v^2 d here.  Measured: alpha = 1.05-1.17 over that phase.
 """
 
-
 from geompm.api import scene_from_dict
 from geompm.engine.scheduler import Simulation
 
