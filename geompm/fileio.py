@@ -32,3 +32,9 @@ def atomic_path(target: str | Path, suffix: str = ""):
 def atomic_write_text(target: str | Path, text: str) -> None:
     with atomic_path(target) as tmp:
         tmp.write_text(text)
+
+
+def case_relative(base_dir: str | Path, relative: str) -> Path:
+    """A file path from a case: absolute as given, else relative to the case file's folder."""
+    p = Path(relative)
+    return p if p.is_absolute() else Path(base_dir) / p

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import CaseError
+from .fileio import case_relative
 
 
 def lattice(lo, hi, origin, h, ppc) -> np.ndarray:
@@ -72,9 +73,7 @@ def seed_body(geom, dim, origin, h, ppc, base_dir: Path, json_path: str) -> np.n
         pts = lattice(lo, hi, origin, h, ppc)
         pts = pts[points_in_polygon(pts[:, :2], verts)]
     else:
-        p = Path(geom.file)
-        p = p if p.is_absolute() else base_dir / p
-        mesh = load_surface_mesh(p, geom.scale, geom.translate, json_path + ".file")
+        mesh = load_surface_mesh(case_relative(base_dir, geom.file), geom.scale, geom.translate, json_path + ".file")
         lo, hi = mesh.bounds
         pts = lattice(lo, hi, origin, h, ppc)
         pts = pts[mesh.contains(pts)]

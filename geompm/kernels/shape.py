@@ -15,7 +15,6 @@ from numba import njit
 
 LINEAR, QUADRATIC, CUBIC = 0, 1, 2
 KIND = {"linear": LINEAR, "quadratic": QUADRATIC, "cubic": CUBIC}
-SUPPORT = {LINEAR: 2, QUADRATIC: 3, CUBIC: 4}
 #: APIC inertia-like tensor D = h^2 * factor (diagonal, constant for B-splines):
 #: Jiang et al. (2015) "The affine particle-in-cell method", SIGGRAPH, sec. 5.3.
 APIC_D_FACTOR = {LINEAR: 0.0, QUADRATIC: 0.25, CUBIC: 1.0 / 3.0}

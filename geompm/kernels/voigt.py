@@ -9,37 +9,8 @@ sigma_zz; xz and yz stay zero.
 import numpy as np
 from numba import njit
 
-VOIGT_NAMES = ("xx", "yy", "zz", "xy", "yz", "xz")
-
 #: VOIGT_INDEX[a, b] is the Voigt slot of tensor component (a, b).
 VOIGT_INDEX = np.array([[0, 3, 5], [3, 1, 4], [5, 4, 2]], dtype=np.int64)
-
-
-@njit(cache=True, inline="always")
-def trace(s):
-    return s[0] + s[1] + s[2]
-
-
-@njit(cache=True, inline="always")
-def von_mises(s):
-    """q = sqrt(3 J2) of a Voigt stress [Pa]."""
-    p = (s[0] + s[1] + s[2]) / 3.0
-    d0 = s[0] - p
-    d1 = s[1] - p
-    d2 = s[2] - p
-    j2 = 0.5 * (d0 * d0 + d1 * d1 + d2 * d2) + s[3] * s[3] + s[4] * s[4] + s[5] * s[5]
-    return np.sqrt(3.0 * j2)
-
-
-@njit(cache=True, inline="always")
-def sym_to_voigt(L, out):
-    """Symmetric part D of a 3x3 matrix into Voigt (tensor, not engineering, shear)."""
-    out[0] = L[0, 0]
-    out[1] = L[1, 1]
-    out[2] = L[2, 2]
-    out[3] = 0.5 * (L[0, 1] + L[1, 0])
-    out[4] = 0.5 * (L[1, 2] + L[2, 1])
-    out[5] = 0.5 * (L[0, 2] + L[2, 0])
 
 
 @njit(cache=True, inline="always")

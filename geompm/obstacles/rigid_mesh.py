@@ -9,12 +9,11 @@ Open surfaces (``thin``) are not supported: close the mesh in your CAD tool
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 from pydantic import Field
 
 from ..errors import CaseError
+from ..fileio import case_relative
 from ..geometry import load_surface_mesh
 from .base import ObstacleParams, RigidObstacle
 
@@ -41,8 +40,7 @@ class RigidMesh(RigidObstacle):
     def setup(self, scene):
         import trimesh
 
-        path = Path(self.params.file)
-        path = path if path.is_absolute() else scene.base_dir / path
+        path = case_relative(scene.base_dir, self.params.file)
         where = f"{self.json_path}.file"
         if not path.is_file():
             raise CaseError([(where, f"mesh file '{self.params.file}' not found (looked in {path.parent})")])

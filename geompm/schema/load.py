@@ -20,6 +20,7 @@ from pydantic import ValidationError
 
 from .. import registry
 from ..errors import CaseError, join_path
+from ..fileio import case_relative
 from .case import Case, DampingSpec, MaterialSpec, OutputSpec, PluginSpec
 from .errors import format_validation_error
 
@@ -44,11 +45,6 @@ class LoadedCase:
     obstacles: list[Resolved] = field(default_factory=list)
     damping: list[Resolved] = field(default_factory=list)
     outputs: list[Resolved] = field(default_factory=list)
-
-    def resolve_path(self, relative: str) -> Path:
-        """A file path from the case, relative to the case file's folder."""
-        p = Path(relative)
-        return p if p.is_absolute() else (self.base_dir / p)
 
 
 def read_json(path: str | Path) -> dict:
@@ -157,8 +153,7 @@ def _check_body(i, body, case: Case, base_dir: Path, problems):
     elif geom.type == "stl":
         if dim != 3:
             problems.append((f"{gpath}.type", "an 'stl' body needs a 3D case; use 'polygon' in 2D"))
-        p = Path(geom.file)
-        p = p if p.is_absolute() else base_dir / p
+        p = case_relative(base_dir, geom.file)
         if not p.is_file():
             problems.append((f"{gpath}.file", f"mesh file '{geom.file}' not found (looked in {p.parent})"))
 
