@@ -18,13 +18,12 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit, prange
 from pydantic import Field
 
-from .base import Material, MaterialParams
+from .base import MaterialParams
 from .fluid import set_fluid_stress, shear_rate
-from .tait import tait_pressure, tait_wave_speed
+from .tait import TaitFluid, tait_pressure
 
 
 class BinghamParams(MaterialParams):
@@ -46,7 +45,7 @@ def bingham_viscosity(gdot, mu_b, tau_b, m):
 
 @njit(parallel=True, fastmath=True, cache=True)
 def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
-    rho0, mu_b, tau_b, m, c, r = prm[0], prm[1], prm[2], prm[3], prm[4], prm[5]
+    rho0, c, r, mu_b, tau_b, m = prm[0], prm[1], prm[2], prm[3], prm[4], prm[5]
     for p in prange(p_L.shape[0]):
         gdot = shear_rate(p_L[p])
         mu = bingham_viscosity(gdot, mu_b, tau_b, m)
@@ -54,34 +53,20 @@ def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
         p_state[p, 0] = gdot
 
 
-@njit(cache=True)
-def _wave_speed(prm, p_rho):
-    return tait_wave_speed(prm[0], prm[4], prm[5], p_rho)
-
-
-class Bingham(Material):
+class Bingham(TaitFluid):
     name = "bingham"
     description = "Bingham viscoplastic fluid (Papanastasiou-regularised) with Tait EOS pressure"
     Params = BinghamParams
     state_vars = ("shear_rate",)
-    rate_dependent = True
     stress_kernel = _stress
-    wave_speed_kernel = _wave_speed
 
     @classmethod
     def pack(cls, p):
-        return np.array([p.density, p.viscosity, p.yield_stress, p.regularisation_time, p.sound_speed,
-                         p.eos_exponent])
+        return cls.pack_eos(p, p.viscosity, p.yield_stress, p.regularisation_time)
 
     @classmethod
     def example_params(cls):
         return cls.Params(density=2000.0, viscosity=1.0, yield_stress=50.0, sound_speed=30.0)
-
-    def k0(self) -> float:
-        return 1.0
-
-    def stiffness(self) -> float:
-        return float(self.params.density * self.params.sound_speed ** 2)
 
     def kinematic_viscosity(self) -> float:
         p = self.params

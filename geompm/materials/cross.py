@@ -19,14 +19,13 @@ dt <= rho h^2 / (2 d mu_0), which is small: see docs/materials.md.
 
 from __future__ import annotations
 
-import numpy as np
 from numba import njit, prange
 from pydantic import Field, model_validator
 
 from ..plugin import Params
-from .base import Material, MaterialParams
+from .base import MaterialParams
 from .fluid import set_fluid_stress, shear_rate
-from .tait import tait_pressure, tait_wave_speed
+from .tait import TaitFluid, tait_pressure
 
 
 class BinghamMapping(Params):
@@ -70,7 +69,7 @@ def cross_viscosity(gdot, mu0, mu_inf, A, m):
 
 @njit(parallel=True, fastmath=True, cache=True)
 def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
-    rho0, mu0, mu_inf, A, m, c, r = prm[0], prm[1], prm[2], prm[3], prm[4], prm[5], prm[6]
+    rho0, c, r, mu0, mu_inf, A, m = prm[0], prm[1], prm[2], prm[3], prm[4], prm[5], prm[6]
     for p in prange(p_L.shape[0]):
         gdot = shear_rate(p_L[p])
         mu = cross_viscosity(gdot, mu0, mu_inf, A, m)
@@ -79,34 +78,20 @@ def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
         p_state[p, 1] = mu
 
 
-@njit(cache=True)
-def _wave_speed(prm, p_rho):
-    return tait_wave_speed(prm[0], prm[5], prm[6], p_rho)
-
-
-class Cross(Material):
+class Cross(TaitFluid):
     name = "cross"
     description = "Generalized Cross shear-thinning fluid with Tait EOS pressure (source eq. 6)"
     Params = CrossParams
     state_vars = ("shear_rate", "effective_viscosity")
-    rate_dependent = True
     stress_kernel = _stress
-    wave_speed_kernel = _wave_speed
 
     @classmethod
     def pack(cls, p):
-        return np.array([p.density, p.viscosity_zero, p.viscosity_infinity, p.time_constant, p.rate_exponent,
-                         p.sound_speed, p.eos_exponent])
+        return cls.pack_eos(p, p.viscosity_zero, p.viscosity_infinity, p.time_constant, p.rate_exponent)
 
     @classmethod
     def example_params(cls):
         return cls.Params(density=2650.0, sound_speed=30.0, from_bingham={"viscosity": 1.2, "yield_stress": 500.0})
-
-    def k0(self) -> float:
-        return 1.0
-
-    def stiffness(self) -> float:
-        return float(self.params.density * self.params.sound_speed ** 2)
 
     def kinematic_viscosity(self) -> float:
         return float(self.params.viscosity_zero / self.params.density)

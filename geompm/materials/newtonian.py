@@ -10,13 +10,12 @@ objective by construction.  Viscous time-step limit dt <= rho h^2 / (2 d mu).
 
 from __future__ import annotations
 
-import numpy as np
 from numba import njit, prange
 from pydantic import Field
 
-from .base import Material, MaterialParams
+from .base import MaterialParams
 from .fluid import set_fluid_stress
-from .tait import tait_pressure, tait_wave_speed
+from .tait import TaitFluid, tait_pressure
 
 
 class NewtonianParams(MaterialParams):
@@ -27,40 +26,26 @@ class NewtonianParams(MaterialParams):
 
 @njit(parallel=True, fastmath=True, cache=True)
 def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
-    rho0, mu, c, r = prm[0], prm[1], prm[2], prm[3]
+    rho0, c, r, mu = prm[0], prm[1], prm[2], prm[3]
     for p in prange(p_L.shape[0]):
         L = p_L[p]
         s = p_stress[p]
         set_fluid_stress(s, L, tait_pressure(p_rho[p], rho0, c, r), mu)
 
 
-@njit(cache=True)
-def _wave_speed(prm, p_rho):
-    return tait_wave_speed(prm[0], prm[2], prm[3], p_rho)
-
-
-class Newtonian(Material):
+class Newtonian(TaitFluid):
     name = "newtonian"
     description = "Weakly compressible Newtonian fluid: Tait EOS pressure plus viscous stress"
     Params = NewtonianParams
-    rate_dependent = True
     stress_kernel = _stress
-    wave_speed_kernel = _wave_speed
 
     @classmethod
     def pack(cls, params):
-        return np.array([params.density, params.viscosity, params.sound_speed, params.eos_exponent])
+        return cls.pack_eos(params, params.viscosity)
 
     @classmethod
     def example_params(cls):
         return cls.Params(density=1000.0, viscosity=1.0e-3, sound_speed=35.0)
-
-    def k0(self) -> float:
-        return 1.0
-
-    def stiffness(self) -> float:
-        """EOS stiffness rho0 c^2 [Pa] (bulk modulus at rest), used as E by damping."""
-        return float(self.params.density * self.params.sound_speed ** 2)
 
     def kinematic_viscosity(self) -> float:
         return float(self.params.viscosity / self.params.density)
