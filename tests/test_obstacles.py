@@ -75,13 +75,18 @@ def test_3d_block_hits_stl_obstacle(tmp_path):
     np.testing.assert_allclose(impulse, -dp, rtol=0.05, atol=0.05 * np.abs(dp).max())
 
 
-def test_force_columns_in_series(tmp_path):
+def _run_drop_with_series(tmp_path):
+    """`geompm run` of the 2D drop onto a box named 'wall', series every step; returns series.csv."""
     raw = _drop(2, {"type": "box", "name": "wall", "min": [0.2, 0.1], "max": [0.8, 0.3]}, 0.02, end=0.15)
     raw["outputs"] = [{"writer": "series", "interval": 0.0}]
     f = tmp_path / "case.json"
     f.write_text(json.dumps(raw))
     assert main(["run", str(f), "--out", str(tmp_path / "run"), "--quiet"]) == 0
-    s = np.genfromtxt(tmp_path / "run" / "series.csv", delimiter=",", names=True)
+    return tmp_path / "run" / "series.csv"
+
+
+def test_force_columns_in_series(tmp_path):
+    s = np.genfromtxt(_run_drop_with_series(tmp_path), delimiter=",", names=True)
     for col in ("wall_fx", "wall_fy", "wall_fn", "wall_ft", "wall_mz"):
         assert col in s.dtype.names
     assert s["wall_fy"].min() < 0.0  # the falling block pushes the obstacle down
@@ -118,12 +123,7 @@ def test_force_history_plot(tmp_path):
     """geompm.plotting draws an obstacle's force history to a non-empty PNG."""
     from geompm.plotting import obstacle_names, plot_obstacle_forces
 
-    raw = _drop(2, {"type": "box", "name": "wall", "min": [0.2, 0.1], "max": [0.8, 0.3]}, 0.02, end=0.15)
-    raw["outputs"] = [{"writer": "series", "interval": 0.0}]
-    f = tmp_path / "case.json"
-    f.write_text(json.dumps(raw))
-    assert main(["run", str(f), "--out", str(tmp_path / "run"), "--quiet"]) == 0
-    series = tmp_path / "run" / "series.csv"
+    series = _run_drop_with_series(tmp_path)
     assert obstacle_names(np.genfromtxt(series, delimiter=",", names=True).dtype.names) == ["wall"]
     png = plot_obstacle_forces(series, tmp_path / "force.png")
     data = png.read_bytes()
