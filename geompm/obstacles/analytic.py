@@ -40,7 +40,7 @@ class BoxObstacle(RigidObstacle):
 
     @classmethod
     def check(cls, params, case):
-        out = vector_length_problems(params, case, ("min", "max", "velocity", "moment_point"))
+        out = super().check(params, case) + vector_length_problems(params, case, ("min", "max"))
         if not out and any(a >= b for a, b in zip(params.min, params.max)):
             out.append(("max", "every entry must exceed the same entry of 'min'"))
         return out
@@ -64,7 +64,7 @@ class SphereObstacle(RigidObstacle):
 
     @classmethod
     def check(cls, params, case):
-        return vector_length_problems(params, case, ("center", "velocity", "moment_point"))
+        return super().check(params, case) + vector_length_problems(params, case, ("center",))
 
     def bounds(self):
         c = np.asarray(self.params.center, float)
@@ -81,7 +81,7 @@ class CylinderObstacle(SphereObstacle):
 
     @classmethod
     def check(cls, params, case):
-        out = vector_length_problems(params, case, ("center", "velocity", "moment_point"))
+        out = super().check(params, case)
         if case.dimension == 3 and params.length is None:
             out.append(("length", "a 3D cylinder needs its 'length' along 'axis'"))
         return out
