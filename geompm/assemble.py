@@ -53,41 +53,60 @@ def _body_velocity(body, pts, dim):
     return np.broadcast_to(v0, pts.shape).copy()
 
 
-def geostatic_stress(pts, masses, k0, gravity, h) -> np.ndarray:
+def geostatic_stress(pts, masses, volumes, k0, gravity, h, normal=None) -> np.ndarray:
     """Layered geostatic stress (Voigt, tension positive) from the weight of everything above.
 
-    Particles are binned in columns of width h across the gravity direction;
-    in each column, sigma_v of a particle is minus |g| times the mass above it
-    (half its own) per unit column area h^(d-1), so layered bodies carry their
-    overburden; sigma_h = K0 sigma_v with each particle's own K0.  For a
-    uniform body that fills whole cells this is exactly rho |g| depth.
+    ``normal`` is the unit normal of the ground surface pointing out of the
+    ground (default: against gravity).  Particles are binned in columns of
+    width h along ``normal``; in each column the overburden per unit area w is
+    the density integrated over height from the top particle (which stands for
+    half a particle spacing of material above it) down to the particle, by the
+    trapezoid rule between successive levels, so layered bodies carry their
+    overburden and a particle lattice at any angle to the column is handled.
+    The stress is that of an infinite layer (or infinite slope) in equilibrium,
+    sigma n = w g on planes parallel to the surface:
+
+        sigma = w (g n^T + n g^T - (g.n) n n^T) + K0 w (g.n) (I - n n^T),
+
+    i.e. sigma_nn = w (g.n), the bed-parallel shear w g_t, and the lateral
+    stress K0 sigma_nn with each particle's own K0.  With n = -g/|g| it reduces
+    to sigma_v = -rho |g| depth, sigma_h = K0 sigma_v; for a uniform body that
+    fills whole cells it is exactly rho |g| depth.
     """
     n, dim = pts.shape
     out = np.zeros((n, 6))
     gnorm = float(np.linalg.norm(gravity))
     if gnorm == 0.0 or n == 0:
         return out
-    ghat = gravity / gnorm
-    height = -pts @ ghat
-    trans = pts - np.outer(pts @ ghat, ghat)
+    up = -gravity / gnorm if normal is None else np.asarray(normal, float) / np.linalg.norm(normal)
+    height = pts @ up
+    trans = pts - np.outer(height, up)
     keys = np.floor(trans / h + 1e-9).astype(np.int64)
     _, col = np.unique(keys, axis=0, return_inverse=True)
     col = col.ravel()
     order = np.argsort(col, kind="stable")
-    csum = np.empty(n)
+    rho = masses / volumes
+    spacing = volumes ** (1.0 / dim)
+    w = np.empty(n)
     for start, stop in _runs(col[order]):
         idx = order[start:stop]
-        # particles at the same height form one level; a level carries the levels above plus half itself
+        # particles at the same height form one level, top level first
         levels, inv = np.unique(-np.round(height[idx] / (1e-9 * h)), return_inverse=True)
-        level_mass = np.bincount(inv.ravel(), weights=masses[idx], minlength=len(levels))
-        above = np.cumsum(level_mass) - level_mass
-        csum[idx] = (above + 0.5 * level_mass)[inv.ravel()]
-    sv = -gnorm * csum / h ** (dim - 1)
-    sh = k0 * sv
-    g3 = np.zeros(3)
-    g3[:dim] = ghat
+        inv = inv.ravel()
+        cnt = np.bincount(inv, minlength=len(levels))
+        z = np.bincount(inv, weights=height[idx], minlength=len(levels)) / cnt
+        r = np.bincount(inv, weights=rho[idx], minlength=len(levels)) / cnt
+        top = 0.5 * r[0] * spacing[idx][inv == 0].mean()
+        wl = top + np.r_[0.0, np.cumsum(0.5 * (r[1:] + r[:-1]) * (z[:-1] - z[1:]))]
+        w[idx] = wl[inv]
+    g3, n3 = np.zeros(3), np.zeros(3)
+    g3[:dim], n3[:dim] = gravity, up
+    gn = float(g3 @ n3)
+    ident = np.eye(3)
     for slot, (a, b) in enumerate(((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))):
-        out[:, slot] = (sv - sh) * g3[a] * g3[b] + (sh if a == b else 0.0)
+        bed = g3[a] * n3[b] + n3[a] * g3[b] - gn * n3[a] * n3[b]
+        lateral = gn * (ident[a, b] - n3[a] * n3[b])
+        out[:, slot] = w * (bed + k0 * lateral)
     return out
 
 
@@ -110,7 +129,7 @@ def assemble(loaded: LoadedCase) -> Scene:
 
     names = list(loaded.materials)
     materials = [loaded.materials[k].cls(loaded.materials[k].params) for k in names]
-    xs, vs, ms, vols, mids, bids, k0s, geo = [], [], [], [], [], [], [], []
+    xs, vs, ms, vols, mids, bids, k0s, geo, normals = [], [], [], [], [], [], [], [], []
     for b, body in enumerate(case.bodies):
         mid = names.index(body.material)
         mat = materials[mid]
@@ -125,17 +144,23 @@ def assemble(loaded: LoadedCase) -> Scene:
         bids.append(np.full(len(pts), b, dtype=np.int32))
         geostatic = body.initial_stress == "geostatic"
         geo.append(np.full(len(pts), geostatic))
+        normals.append(None if body.surface_normal is None else tuple(body.surface_normal))
         k0s.append(np.full(len(pts), mat.k0() if geostatic else 0.0))
-    p_x, p_mass = np.concatenate(xs), np.concatenate(ms)
-    # overburden from every body; stress only where the body asks for it
-    stress = geostatic_stress(p_x, p_mass, np.concatenate(k0s), gravity, h) * np.concatenate(geo)[:, None]
+    p_x, p_mass, p_vol = np.concatenate(xs), np.concatenate(ms), np.concatenate(vols)
+    # overburden from every body; stress only where the body asks for it, in its own surface frame
+    k0_all, body_of = np.concatenate(k0s), np.concatenate(bids)
+    stress = np.zeros((len(p_x), 6))
+    for normal in dict.fromkeys(normals):
+        mine = np.isin(body_of, [b for b, nb in enumerate(normals) if nb == normal]) & np.concatenate(geo)
+        if mine.any():
+            stress[mine] = geostatic_stress(p_x, p_mass, p_vol, k0_all, gravity, h, normal)[mine]
     p_material = np.concatenate(mids)
     order = np.argsort(p_material, kind="stable")
     state = ParticleState(
         p_x=np.ascontiguousarray(p_x[order]),
         p_v=np.ascontiguousarray(np.concatenate(vs)[order]),
         p_mass=p_mass[order],
-        p_vol0=np.concatenate(vols)[order],
+        p_vol0=p_vol[order],
         p_material=p_material[order],
         p_body=np.concatenate(bids)[order],
         p_stress=np.ascontiguousarray(stress[order]),

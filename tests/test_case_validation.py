@@ -54,6 +54,8 @@ MALFORMED = [
     ("outputs.0.writer", "vtk", "outputs.0.writer", "did you mean 'vtu'"),
     ("outputs.0.interval", -1.0, "outputs.0.interval", "must be >= 0"),
     ("solver.transfer", "mls", "solver.transfer", "must be one of"),
+    ("bodies.0.surface_normal", [0.0, 1.0], "bodies.0.surface_normal", "only used with"),
+    ("bodies.0.surface_normal", [0.0, 1.0, 0.0], "bodies.0.surface_normal", "must have 2 entries"),
 ]
 
 
@@ -84,6 +86,16 @@ def test_every_problem_is_reported_at_once(tmp_path, capsys):
     assert main(["validate", str(f)]) == 2
     err = capsys.readouterr().err
     assert "materials.soil.poisson_ratio" in err and "bodies.0.material" in err
+
+
+def test_surface_normal_must_point_against_gravity(tmp_path, capsys):
+    """A ground-surface normal along gravity would put the overburden below each particle."""
+    case = tiny_case()
+    case["bodies"][0].update(initial_stress="geostatic", surface_normal=[0.5, -0.866])
+    f = tmp_path / "case.json"
+    f.write_text(json.dumps(case))
+    assert main(["validate", str(f)]) == 2
+    assert "bodies.0.surface_normal: must point out of the ground" in capsys.readouterr().err
 
 
 def test_valid_case_prints_a_summary(tmp_path, capsys):

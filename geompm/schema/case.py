@@ -125,6 +125,10 @@ class BodySpec(Strict):
     initial_stress: Literal["none", "geostatic"] = Field(
         "none", description="'geostatic': sigma_v = rho g depth, sigma_h = K0 sigma_v (K0 from the material)"
     )
+    surface_normal: Vector | None = Field(
+        None, description="'geostatic' on a slope: unit normal of the ground surface, out of the ground; the "
+                          "stress is that of an infinite slope in equilibrium (bed-parallel shear included). "
+                          "Default: against gravity")
 
 
 class Case(Strict):

@@ -128,6 +128,14 @@ def _check_body(i, body, case: Case, base_dir: Path, problems):
         hint = f"; did you mean '{close[0]}'?" if close else ""
         problems.append((f"{path}.material", f"no material named '{body.material}' in 'materials'{hint}"))
     _check_vec(body.velocity, dim, f"{path}.velocity", problems)
+    _check_vec(body.surface_normal, dim, f"{path}.surface_normal", problems)
+    if body.surface_normal is not None and len(body.surface_normal) == dim == len(case.gravity):
+        if body.initial_stress != "geostatic":
+            problems.append((f"{path}.surface_normal", "only used with \"initial_stress\": \"geostatic\"; "
+                                                       "remove it or set initial_stress"))
+        elif sum(n * g for n, g in zip(body.surface_normal, case.gravity)) >= 0.0:
+            problems.append((f"{path}.surface_normal", "must point out of the ground (against gravity): "
+                                                       "its dot product with 'gravity' must be negative"))
     if body.velocity_profile.axis >= dim:
         problems.append((f"{path}.velocity_profile.axis", f"must be < {dim} in a {dim}D case"))
     geom = body.geometry
