@@ -12,7 +12,8 @@ import numpy as np
 
 from .engine.grid import GridSpec
 from .engine.state import ParticleState
-from .geometry import seed_body
+from .errors import CaseError
+from .geometry import overlap_problems, seed_body
 from .kernels.shape import APIC_D_FACTOR, KIND
 from .schema.load import LoadedCase
 
@@ -37,6 +38,8 @@ class Scene:
     musl: bool
     apic_dinv: float
     nu_max: float
+    dt_min: float = 1e-9
+    run_options: object = None  # schema.case.RunSpec: checkpoints, on_leave_domain
     base_dir: object = None  # folder of the case file: relative paths (meshes) start there
     boundaries: list = field(default_factory=list)
     obstacles: list = field(default_factory=list)
@@ -129,12 +132,13 @@ def assemble(loaded: LoadedCase) -> Scene:
 
     names = list(loaded.materials)
     materials = [loaded.materials[k].cls(loaded.materials[k].params) for k in names]
-    xs, vs, ms, vols, mids, bids, k0s, geo, normals = [], [], [], [], [], [], [], [], []
+    xs, vs, ms, vols, mids, bids, k0s, geo, normals, tests = [], [], [], [], [], [], [], [], [], []
     for b, body in enumerate(case.bodies):
         mid = names.index(body.material)
         mat = materials[mid]
         ppc = body.particles_per_cell
-        pts = seed_body(body.geometry, dim, origin, h, ppc, loaded.base_dir, f"bodies.{b}.geometry")
+        pts, contains = seed_body(body.geometry, dim, origin, h, ppc, loaded.base_dir, f"bodies.{b}.geometry")
+        tests.append(contains)
         vol = (h / ppc) ** dim
         xs.append(pts)
         vs.append(_body_velocity(body, pts, dim))
@@ -146,6 +150,9 @@ def assemble(loaded: LoadedCase) -> Scene:
         geo.append(np.full(len(pts), geostatic))
         normals.append(None if body.surface_normal is None else tuple(body.surface_normal))
         k0s.append(np.full(len(pts), mat.k0() if geostatic else 0.0))
+    overlaps = overlap_problems(xs, tests)
+    if overlaps:
+        raise CaseError(overlaps)
     p_x, p_mass, p_vol = np.concatenate(xs), np.concatenate(ms), np.concatenate(vols)
     # overburden from every body; stress only where the body asks for it, in its own surface frame
     k0_all, body_of = np.concatenate(k0s), np.concatenate(bids)
@@ -174,6 +181,7 @@ def assemble(loaded: LoadedCase) -> Scene:
         name=case.name, dim=dim, grid=grid, gravity=gravity, state=state,
         materials=materials, material_names=names,
         end_time=case.time.end, cfl=case.time.cfl, dt_max=case.time.dt_max, dt_fixed=case.time.dt,
+        dt_min=case.time.dt_min, run_options=case.run,
         transfer_mode=TRANSFER_MODE[case.solver.transfer], flip_ratio=case.solver.flip_ratio,
         musl=case.solver.update == "musl",
         apic_dinv=(1.0 / (APIC_D_FACTOR[kind] * h * h)) if APIC_D_FACTOR[kind] > 0 else 0.0,
@@ -188,4 +196,17 @@ def assemble(loaded: LoadedCase) -> Scene:
             getattr(scene, attr).append(stage)
     for r, spec in zip(loaded.outputs, loaded.case.outputs):
         scene.writers.append(r.cls(r.params, spec.interval))
+    _check_output_intervals(scene, loaded.case.outputs)
     return scene
+
+
+def _check_output_intervals(scene: Scene, outputs) -> None:
+    """An output interval shorter than the first time step would force every step to be shortened."""
+    from .engine.timestep import stable_dt
+
+    dt = stable_dt(scene, scene.state)
+    problems = [(f"outputs.{k}.interval", f"{o.interval:g} s is shorter than the time step ({dt:.3g} s); "
+                                          f"use at least {dt:.3g} s, or 0 to write every step")
+                for k, o in enumerate(outputs) if 0.0 < o.interval < dt]
+    if problems:
+        raise CaseError(problems)

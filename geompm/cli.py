@@ -1,4 +1,4 @@
-"""Command line: ``geompm run | validate | plugins | schema``.
+"""Command line: ``geompm run | validate | info | plot | plugins | schema``.
 
 Exit codes: 0 success, 2 invalid case or arguments (nothing computed),
 3 the simulation became unphysical, 130 interrupted.
@@ -10,20 +10,24 @@ import argparse
 import json
 import logging
 import shutil
+import signal
 import sys
 from pathlib import Path
 
 from . import __version__, registry
 from .errors import CaseError, SimulationError
+from .fileio import atomic_write_text
 
 log = logging.getLogger("geompm")
 
 
-def _setup_logging(run_dir: Path | None = None):
+def _setup_logging(run_dir: Path | None = None, quiet: bool = False):
+    """Messages to the terminal (warnings and errors only with --quiet) and to run.log."""
     log.setLevel(logging.INFO)
     log.handlers.clear()
     term = logging.StreamHandler(sys.stdout)
     term.setFormatter(logging.Formatter("%(message)s"))
+    term.setLevel(logging.WARNING if quiet else logging.INFO)
     log.addHandler(term)
     if run_dir is not None:
         fh = logging.FileHandler(run_dir / "run.log", mode="a")
@@ -41,17 +45,12 @@ def _load(args):
 
 def _estimate(scene) -> tuple[float, int, float]:
     """(bytes of memory, active grid nodes, first time step [s])."""
-    import numba
-    import numpy as np
-
     from .engine.timestep import stable_dt
+    from .resources import grid_bytes, window_nodes
 
     st = scene.state
-    span = (st.p_x.max(axis=0) - st.p_x.min(axis=0)) / scene.grid.h + 4
-    nodes = int(np.prod(np.ceil(span)))
-    d = scene.dim
-    grid_bytes = nodes * 8 * (numba.get_num_threads() * (1 + 2 * d) + 1 + 4 * d)
-    return st.nbytes() + grid_bytes, nodes, stable_dt(scene, st)
+    nodes = window_nodes(st.p_x.min(axis=0), st.p_x.max(axis=0), scene.grid.h)
+    return st.nbytes() + grid_bytes(nodes, scene.dim), nodes, stable_dt(scene, st)
 
 
 def cmd_validate(args) -> int:
@@ -66,37 +65,175 @@ def cmd_validate(args) -> int:
     return 0
 
 
+def _same_case(old: dict, new: dict) -> bool:
+    """A run may resume with the case it started with; only time.end may differ (to extend a run)."""
+    a, b = json.loads(json.dumps(old)), json.loads(json.dumps(new))
+    for c in (a, b):
+        c.get("time", {}).pop("end", None)
+    return a == b
+
+
+def _run_folder(args, loaded, scene) -> Path:
+    """The run folder: a fresh one (refusing to overwrite) or, with --resume, the existing one."""
+    if args.resume:
+        run_dir = Path(args.resume)
+        saved = run_dir / "case.json"
+        if not saved.is_file():
+            raise CaseError([("", f"'{run_dir}' is not a geompm run folder (no case.json)")])
+        if not _same_case(json.loads(saved.read_text()), loaded.raw):
+            raise CaseError([("", f"the case differs from the one '{run_dir}' was started with "
+                                  "(only time.end may change on --resume); use that case.json")])
+        return run_dir
+    run_dir = Path(args.out) if args.out else Path("runs") / scene.name
+    if run_dir.exists() and any(run_dir.iterdir()):
+        if not args.overwrite:
+            raise CaseError([("", f"run folder '{run_dir}' already exists; use --overwrite, --out DIR, "
+                                  "or --resume to continue it")])
+        shutil.rmtree(run_dir)
+    run_dir.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(run_dir / "case.json", json.dumps(loaded.raw, indent=2) + "\n")
+    return run_dir
+
+
+def _write_status(run_dir: Path, scene, runner, summary, finished: bool, reason: str = "") -> None:
+    sim = runner.sim
+    status = {
+        "case": scene.name, "finished": finished, "reason": reason, "time": sim.time, "end_time": scene.end_time,
+        "steps": sim.step_count, "particles": sim.state.n, "deleted_particles": runner.deleted,
+        "wall_seconds": runner.wall_before + (summary.wall_seconds if summary else 0.0),
+        "front_x": float(sim.state.p_x[:, 0].max()) if sim.state.n else None,
+        "obstacles": {o.label: {"peak_force": o.peak[0], "peak_time": o.peak[1]}
+                      for o in scene.obstacles if hasattr(o, "peak")},
+        "geompm": __version__,
+    }
+    atomic_write_text(run_dir / "status.json", json.dumps(status, indent=2) + "\n")
+
+
+class _StopOnSignal:
+    """SIGINT/SIGTERM ask the runner to checkpoint and stop; restored on exit."""
+
+    def __init__(self, runner):
+        self.runner = runner
+        self.signum = None
+
+    def _handler(self, signum, frame):
+        if self.signum is not None:  # a second signal: stop now
+            raise KeyboardInterrupt
+        self.signum = signum
+        self.runner.request_stop(signal.Signals(signum).name)
+
+    def __enter__(self):
+        self.old = {s: signal.signal(s, self._handler) for s in (signal.SIGINT, signal.SIGTERM)}
+        return self
+
+    def __exit__(self, *exc):
+        for s, h in self.old.items():
+            signal.signal(s, h)
+
+
 def cmd_run(args) -> int:
-    from .engine.runner import run
+    from .engine.runner import Interrupted, Runner
     from .engine.scheduler import Simulation
     from .writers.series import SeriesWriter
 
     loaded, scene = _load(args)
-    run_dir = Path(args.out) if args.out else Path("runs") / scene.name
-    if run_dir.exists() and any(run_dir.iterdir()):
-        if not args.overwrite:
-            raise CaseError([("", f"run folder '{run_dir}' already exists; use --overwrite or --out DIR")])
-        shutil.rmtree(run_dir)
-    run_dir.mkdir(parents=True, exist_ok=True)
-    (run_dir / "case.json").write_text(json.dumps(loaded.raw, indent=2) + "\n")
-    _setup_logging(run_dir)
+    run_dir = _run_folder(args, loaded, scene)
+    _setup_logging(run_dir, quiet=args.quiet)
     mem, nodes, dt = _estimate(scene)
-    log.info(f"geompm {__version__}: case '{scene.name}', {scene.dim}D, {scene.state.n} particles, "
-             f"h = {scene.grid.h:g} m, end time {scene.end_time:g} s, first dt {dt:.3g} s -> {run_dir}")
     writers = list(scene.writers)
     if not any(isinstance(w, SeriesWriter) for w in writers):
-        writers.append(SeriesWriter(SeriesWriter.Params(), 0.0))
-    sim = Simulation(scene)
+        writers.insert(0, SeriesWriter(SeriesWriter.Params(), 0.0))
+    nchunks = None
+    if args.resume:
+        from .engine import checkpoint
+
+        nchunks = checkpoint.load(run_dir)[1]["nchunks"]
+    sim = Simulation(scene, nchunks=nchunks)
+    runner = Runner(sim, run_dir, writers, progress=not args.quiet)
+    if args.resume:
+        runner.resume()
+        log.info(f"geompm {__version__}: resuming '{scene.name}' in {run_dir} at step {sim.step_count}, "
+                 f"t = {sim.time:.6g} s, to end time {scene.end_time:g} s")
+    else:
+        log.info(f"geompm {__version__}: case '{scene.name}', {scene.dim}D, {scene.state.n} particles, "
+                 f"h = {scene.grid.h:g} m, end time {scene.end_time:g} s, first dt {dt:.3g} s, "
+                 f"~{mem / 2**20:.0f} MiB -> {run_dir}")
+    summary = None
     try:
-        summary = run(sim, run_dir, writers, progress=not args.quiet)
+        with _StopOnSignal(runner) as stopper:
+            summary = runner.run()
     except SimulationError as exc:
-        log.error(f"run stopped at step {sim.step_count}, t = {sim.time:.6g} s: {exc}")
+        log.error(f"error: the run stopped at step {sim.step_count}, t = {sim.time:.6g} s: {exc}")
+        log.error(f"output written so far is kept in {run_dir}; the last checkpoint is before this step")
+        _write_status(run_dir, scene, runner, summary, False, f"unphysical: {exc}")
         return 3
+    except Interrupted as exc:
+        sets = "".join(f" --set {x}" for x in (args.set or []))
+        log.error(f"stopped by {exc} at step {sim.step_count}, t = {sim.time:.6g} s; checkpoint written. "
+                  f"Continue with: geompm run {args.case}{sets} --resume {run_dir}")
+        _write_status(run_dir, scene, runner, summary, False, f"stopped by {exc}")
+        return 128 + (stopper.signum or signal.SIGINT)
     for stage in scene.boundaries + scene.obstacles + scene.damping:
         if stage.summary():
             log.info(stage.summary())
+    if summary.deleted:
+        log.info(f"{summary.deleted} particles left the grid and were deleted")
+    _write_status(run_dir, scene, runner, summary, True)
     log.info(f"done: {summary.steps} steps to t = {summary.sim_time:.6g} s in {summary.wall_seconds:.2f} s wall, "
              f"{summary.particle_steps_per_second:.3g} particle-steps/s")
+    return 0
+
+
+def _run_dir_arg(path) -> Path:
+    run_dir = Path(path)
+    if not (run_dir / "series.csv").is_file():
+        raise CaseError([("", f"'{run_dir}' is not a geompm run folder (no series.csv)")])
+    return run_dir
+
+
+def cmd_info(args) -> int:
+    from .engine import checkpoint
+
+    run_dir = _run_dir_arg(args.run_dir)
+    case = json.loads((run_dir / "case.json").read_text())
+    status_file = run_dir / "status.json"
+    status = json.loads(status_file.read_text()) if status_file.is_file() else None
+    lines = (run_dir / "series.csv").read_text().splitlines()
+    cols, last = lines[0].split(","), dict(zip(lines[0].split(","), lines[-1].split(",")))
+    print(f"run folder   {run_dir}")
+    print(f"case         {case.get('name')} ({case.get('dimension')}D): {case.get('description', '')[:100]}")
+    if status is None:
+        ck = checkpoint.newest(run_dir)
+        print("status       NOT FINISHED: no status.json, the process was killed; "
+              + (f"newest checkpoint {ck.name}, resume with --resume" if ck else "no checkpoint"))
+    else:
+        state = "finished" if status["finished"] else f"NOT FINISHED ({status['reason'][:200]})"
+        print(f"status       {state}")
+        print(f"particles    {status['particles']}" + (f" ({status['deleted_particles']} deleted)"
+                                                        if status["deleted_particles"] else ""))
+        print(f"wall time    {status['wall_seconds']:.1f} s")
+        for name, o in status["obstacles"].items():
+            unit = "N" if case.get("dimension") == 3 else "N/m"
+            print(f"peak force   {name}: {o['peak_force']:.4g} {unit} at t = {o['peak_time']:.4g} s")
+    print(f"simulated    t = {float(last['time']):.6g} s of {case['time']['end']:g} s, {last['step']} steps")
+    print(f"runout       front x = {float(last['front_x']):.4g} m at the last series row")
+    outs = [name for name, present in (("VTU/PVD", (run_dir / "particles.pvd").is_file()),
+                                       ("HDF5", (run_dir / "results.h5").is_file())) if present]
+    print(f"outputs      series.csv ({len(lines) - 1} rows, {len(cols)} columns)" + "".join(f", {o}" for o in outs))
+    return 0
+
+
+def cmd_plot(args) -> int:
+    run_dir = _run_dir_arg(args.run_dir)
+    try:
+        from .plotting import plot_run
+
+        made = plot_run(run_dir, args.output)
+    except ImportError as exc:
+        raise CaseError([("", f"plotting needs matplotlib ({exc}); install it with "
+                              "python -m pip install 'geompm[plot]'")]) from None
+    for png in made:
+        print(f"wrote {png}")
     return 0
 
 
@@ -129,12 +266,20 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", help="run folder (default runs/<case name>)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a case value, e.g. grid.cell_size=0.01")
     p.add_argument("--overwrite", action="store_true", help="replace an existing run folder")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--quiet", action="store_true", help="no progress bar; only warnings and errors on the terminal")
+    p.add_argument("--resume", metavar="RUN_DIR", help="continue the run in RUN_DIR from its newest checkpoint")
     p.set_defaults(func=cmd_run)
     p = sub.add_parser("validate", help="check a case and print its size")
     p.add_argument("case")
     p.add_argument("--set", action="append", metavar="KEY=VALUE")
     p.set_defaults(func=cmd_validate)
+    p = sub.add_parser("info", help="summarise a run folder")
+    p.add_argument("run_dir")
+    p.set_defaults(func=cmd_info)
+    p = sub.add_parser("plot", help="PNGs of a run: series, obstacle forces, 2D deposit")
+    p.add_argument("run_dir")
+    p.add_argument("-o", "--output", help="folder for the PNGs (default RUN_DIR/plots)")
+    p.set_defaults(func=cmd_plot)
     p = sub.add_parser("plugins", help="list installed plugins")
     p.set_defaults(func=cmd_plugins)
     p = sub.add_parser("schema", help="print the case JSON Schema (or write it with -o)")

@@ -38,3 +38,12 @@ def case_relative(base_dir: str | Path, relative: str) -> Path:
     """A file path from a case: absolute as given, else relative to the case file's folder."""
     p = Path(relative)
     return p if p.is_absolute() else Path(base_dir) / p
+
+
+def unreadable_file(path: Path, shown: str) -> str | None:
+    """Why ``path`` cannot be read as an input file, or None if it can."""
+    if not path.is_file():
+        return f"file '{shown}' not found (looked in {path.parent})"
+    if not os.access(path, os.R_OK):
+        return f"file '{shown}' exists but cannot be read (permissions); make it readable"
+    return None

@@ -60,23 +60,44 @@ def load_surface_mesh(path: Path, scale: float, translate, json_path: str):
     return mesh
 
 
-def seed_body(geom, dim, origin, h, ppc, base_dir: Path, json_path: str) -> np.ndarray:
-    """Particle positions (m, dim) of one body's geometry."""
+def body_region(geom, dim, base_dir: Path, json_path: str):
+    """(lo, hi, contains) of a body geometry: its bounding box and a point-membership test."""
     if geom.type == "box":
-        pts = lattice(geom.min, geom.max, origin, h, ppc)
-    elif geom.type == "polygon":
+        lo, hi = np.asarray(geom.min, float), np.asarray(geom.max, float)
+        eps = 1e-9 * max(float(np.abs(hi - lo).max()), 1.0)
+        return lo, hi, lambda pts: np.all((pts > lo + eps) & (pts < hi - eps), axis=1)
+    if geom.type == "polygon":
         verts = np.asarray(geom.vertices, dtype=float)
         lo, hi = verts.min(axis=0), verts.max(axis=0)
-        if dim == 3:
-            lo = np.r_[lo, geom.extrude[0]]
-            hi = np.r_[hi, geom.extrude[1]]
-        pts = lattice(lo, hi, origin, h, ppc)
-        pts = pts[points_in_polygon(pts[:, :2], verts)]
-    else:
-        mesh = load_surface_mesh(case_relative(base_dir, geom.file), geom.scale, geom.translate, json_path + ".file")
-        lo, hi = mesh.bounds
-        pts = lattice(lo, hi, origin, h, ppc)
-        pts = pts[mesh.contains(pts)]
+        if dim == 2:
+            return lo, hi, lambda pts: points_in_polygon(pts[:, :2], verts)
+        z0, z1 = geom.extrude
+        return (np.r_[lo, z0], np.r_[hi, z1],
+                lambda pts: points_in_polygon(pts[:, :2], verts) & (pts[:, 2] > z0) & (pts[:, 2] < z1))
+    mesh = load_surface_mesh(case_relative(base_dir, geom.file), geom.scale, geom.translate, json_path + ".file")
+    lo, hi = mesh.bounds
+    return lo, hi, mesh.contains
+
+
+def seed_body(geom, dim, origin, h, ppc, base_dir: Path, json_path: str):
+    """Particle positions (m, dim) of one body's geometry and its membership test."""
+    lo, hi, contains = body_region(geom, dim, base_dir, json_path)
+    pts = lattice(lo, hi, origin, h, ppc)
+    if geom.type != "box":
+        pts = pts[contains(pts)]
     if len(pts) == 0:
         raise CaseError([(json_path, "the geometry contains no particle; enlarge it or refine the grid")])
-    return pts
+    return pts, contains
+
+
+def overlap_problems(points: list[np.ndarray], tests: list) -> list[tuple[str, str]]:
+    """One problem per pair of bodies where particles of one lie strictly inside the other."""
+    problems = []
+    for j in range(len(points)):
+        for i in range(j):
+            k = int(np.count_nonzero(tests[i](points[j]))) + int(np.count_nonzero(tests[j](points[i])))
+            if k:
+                problems.append((f"bodies.{j}.geometry",
+                                 f"overlaps bodies.{i} ({k} particles of one lie inside the other); "
+                                 "bodies may touch but not overlap: trim one of the geometries"))
+    return problems

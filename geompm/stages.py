@@ -7,8 +7,10 @@
 - ``ParticleStage``: acts on particles after G2P (particle damping).
 
 A stage may contribute columns to series.csv through ``series()``, a dict of
-column name -> value at the current step.  The scheduler picks stages by these
-capabilities, never by plugin name.
+column name -> value at the current step.  A stage that carries state from
+step to step (an obstacle's peak force) returns it from ``state_dict()`` (plain
+JSON values) and takes it back in ``load_state()``, so checkpoints restore it.
+The scheduler picks stages by these capabilities, never by plugin name.
 """
 
 from __future__ import annotations
@@ -31,6 +33,12 @@ class Stage(Plugin):
     def summary(self) -> str:
         """A line for the end of a run (e.g. an obstacle's peak force), or ''."""
         return ""
+
+    def state_dict(self) -> dict:
+        return {}
+
+    def load_state(self, state: dict) -> None:
+        pass
 
 
 class GridStage(Stage):

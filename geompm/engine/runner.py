@@ -1,17 +1,31 @@
-"""Run a scene to its end time: output schedule, progress bar, summary.
+"""Run a scene to its end time: output schedule, checkpoints, health checks, progress bar.
 
 Each writer writes at t = 0, at every multiple of its interval (the time step
-is shortened to land on output times exactly) and at the end.  Writers are
-closed (files flushed) even when the run stops with an error or Ctrl-C.
+is shortened to land on output times exactly) and at the end.  After every
+step the health check (health.py) stops a run that has become unphysical.
+Checkpoints (checkpoint.py) are written every ``run.checkpoint_interval``
+simulated seconds, every ``run.checkpoint_wall_minutes`` of wall time, when a
+stop is requested (SIGINT/SIGTERM, through ``Runner.request_stop``) and at the
+end; ``Runner.resume`` continues from one bit for bit.  Writers are closed
+(files flushed) whatever happens.
 """
 
 from __future__ import annotations
 
+import logging
 import math
 import time as wallclock
 from dataclasses import dataclass
 
+from . import checkpoint
+from .health import HealthCheck, check_domain
 from .scheduler import Simulation
+
+log = logging.getLogger("geompm")
+
+
+class Interrupted(Exception):
+    """The run stopped on request after writing a checkpoint."""
 
 
 @dataclass
@@ -20,31 +34,33 @@ class RunSummary:
     sim_time: float
     wall_seconds: float
     particles: int
+    steps_this_session: int | None = None  # steps since this session began (resumed runs)
+    deleted: int = 0
 
     @property
     def particle_steps_per_second(self) -> float:
-        return self.particles * self.steps / max(self.wall_seconds, 1e-12)
+        steps = self.steps if self.steps_this_session is None else self.steps_this_session
+        return self.particles * steps / max(self.wall_seconds, 1e-12)
 
 
 class _Progress:
     """tqdm bar over simulated time; silent when not attached to a terminal or quiet."""
 
-    def __init__(self, end, enabled):
+    def __init__(self, start, end, enabled):
         self.bar = None
         if enabled:
             from tqdm import tqdm
 
-            self.bar = tqdm(total=end, unit="s(sim)", disable=None, leave=True,
+            self.bar = tqdm(total=end, initial=start, unit="s(sim)", disable=None, leave=True,
                             bar_format="{l_bar}{bar}| t={n:.4g}/{total:.4g} s [{elapsed}<{remaining}{postfix}]")
-        self.last = 0.0
+        self.last = start
 
-    def update(self, sim, t0):
+    def update(self, sim, steps, t0):
         if self.bar is None:
             return
         self.bar.update(sim.time - self.last)
         self.last = sim.time
-        self.bar.set_postfix_str(f"{sim.step_count / max(wallclock.perf_counter() - t0, 1e-9):.0f} steps/s",
-                                 refresh=False)
+        self.bar.set_postfix_str(f"{steps / max(wallclock.perf_counter() - t0, 1e-9):.0f} steps/s", refresh=False)
 
     def close(self):
         if self.bar is not None:
@@ -55,43 +71,133 @@ def _next_due(t, interval):
     return (math.floor(t / interval * (1 + 1e-12) + 1e-9) + 1) * interval
 
 
-def run(sim: Simulation, run_dir, writers, progress: bool = True, until: float | None = None) -> RunSummary:
-    end = sim.scene.end_time if until is None else until
-    for w in writers:
-        w.open(run_dir, sim)
-    due = [0.0] * len(writers)
-    last_written = [None] * len(writers)
-    bar = _Progress(end, progress)
-    t0 = wallclock.perf_counter()
+class Runner:
+    def __init__(self, sim: Simulation, run_dir, writers, progress: bool = True):
+        self.sim = sim
+        self.run_dir = run_dir
+        self.writers = writers
+        self.progress = progress
+        opts = sim.scene.run_options
+        self.ckpt_interval = getattr(opts, "checkpoint_interval", None)
+        wall_min = getattr(opts, "checkpoint_wall_minutes", None)
+        self.ckpt_wall = None if wall_min is None else 60.0 * wall_min
+        self.keep = getattr(opts, "keep_checkpoints", 2)
+        self.delete_outside = getattr(opts, "on_leave_domain", "error") == "delete"
+        self.due = [0.0] * len(writers)
+        self.last_written = [None] * len(writers)
+        self.ckpt_due = self.ckpt_interval
+        self.wall_before = 0.0  # wall seconds of earlier sessions (resumed runs)
+        self.deleted = 0
+        self.stop_reason = None
+        self.resumed = False
+        self._warned = set()
 
-    def emit(force=False):
-        for k, w in enumerate(writers):
-            if last_written[k] == sim.step_count:
+    # -- control ------------------------------------------------------------------------
+    def request_stop(self, reason: str) -> None:
+        """Ask the loop to write a checkpoint and stop after the current step (signal-safe)."""
+        self.stop_reason = reason
+
+    def warn_once(self, key: str, message: str) -> None:
+        if key not in self._warned:
+            self._warned.add(key)
+            log.warning(f"warning: {message}")
+
+    # -- checkpoints ----------------------------------------------------------------------
+    def _meta(self) -> dict:
+        return {"due": self.due, "last_written": self.last_written, "ckpt_due": self.ckpt_due,
+                "wall": self.wall_before + wallclock.perf_counter() - self.t0, "deleted": self.deleted}
+
+    def checkpoint(self):
+        path = checkpoint.save(self.run_dir, self.sim, self._meta(), self.writers, self.keep)
+        self.last_ckpt_wall = wallclock.perf_counter()
+        return path
+
+    def resume(self) -> None:
+        """Continue the run in ``run_dir`` from its newest checkpoint (call before ``run``)."""
+        arrays, meta = checkpoint.load(self.run_dir)
+        checkpoint.restore(self.sim, arrays, meta)
+        r = meta["runner"]
+        self.due, self.last_written, self.ckpt_due = r["due"], r["last_written"], r["ckpt_due"]
+        self.wall_before, self.deleted = r["wall"], r["deleted"]
+        self.writer_states = meta["writers"]
+        self.resumed = True
+
+    # -- the loop -------------------------------------------------------------------------
+    def _emit(self, force=False):
+        sim = self.sim
+        for k, w in enumerate(self.writers):
+            if self.last_written[k] == sim.step_count:
                 continue
-            if force or w.interval == 0.0 or sim.time >= due[k] * (1 - 1e-12) - 1e-15:
+            if force or w.interval == 0.0 or sim.time >= self.due[k] * (1 - 1e-12) - 1e-15:
                 w.write(sim)
-                last_written[k] = sim.step_count
+                self.last_written[k] = sim.step_count
                 if w.interval > 0.0:
-                    due[k] = _next_due(sim.time, w.interval)
+                    self.due[k] = _next_due(sim.time, w.interval)
 
-    try:
-        emit(force=True)
-        while sim.time < end * (1 - 1e-12):
-            dt = sim.stable_dt()
-            target = min([end] + [due[k] for k, w in enumerate(writers) if w.interval > 0.0])
-            gap = target - sim.time
-            if dt >= gap:
-                dt = gap
-            elif 1.5 * dt > gap:
-                dt = 0.5 * gap
-            sim.step(dt)
-            emit()
-            if sim.step_count % 20 == 0:
-                bar.update(sim, t0)
-        emit(force=True)
-        bar.update(sim, t0)
-    finally:
-        bar.close()
-        for w in writers:
-            w.close(sim)
-    return RunSummary(sim.step_count, sim.time, wallclock.perf_counter() - t0, sim.state.n)
+    def _checkpoint_due(self) -> bool:
+        sim = self.sim
+        if self.ckpt_due is not None and sim.time >= self.ckpt_due * (1 - 1e-12):
+            self.ckpt_due = _next_due(sim.time, self.ckpt_interval)
+            return True
+        return self.ckpt_wall is not None and wallclock.perf_counter() - self.last_ckpt_wall >= self.ckpt_wall
+
+    def _step(self, end):
+        sim, writers = self.sim, self.writers
+        dt = sim.stable_dt()
+        self.health.before_step(sim, dt)
+        target = min([end] + [self.due[k] for k, w in enumerate(writers) if w.interval > 0.0])
+        gap = target - sim.time
+        if dt >= gap:
+            dt = gap
+        elif 1.5 * dt > gap:
+            dt = 0.5 * gap
+        if dt < 0.1 * self.first_dt and dt < gap:
+            self.warn_once("dt", f"the time step fell to {dt:.3g} s (from {self.first_dt:.3g} s) at "
+                                 f"t = {sim.time:.6g} s: the run will take longer than first estimated")
+        sim.step(dt)
+        self.health.after_step(sim)
+        removed = check_domain(sim, self.delete_outside)
+        if removed:
+            self.deleted += removed
+            self.warn_once("deleted", f"{removed} particles left the grid at t = {sim.time:.6g} s and were deleted "
+                                      "(run.on_leave_domain = delete); later deletions are counted in the summary")
+
+    def run(self, until: float | None = None) -> RunSummary:
+        sim = self.sim
+        end = sim.scene.end_time if until is None else until
+        self.t0 = self.last_ckpt_wall = wallclock.perf_counter()
+        self.health = HealthCheck(sim.scene)
+        self.first_dt = sim.stable_dt()
+        for k, w in enumerate(self.writers):
+            if self.resumed:
+                w.resume(self.run_dir, sim, self.writer_states[k])
+            else:
+                w.open(self.run_dir, sim)
+        bar = _Progress(sim.time, end, self.progress)
+        step0 = sim.step_count
+        try:
+            self._emit(force=not self.resumed)
+            while sim.time < end * (1 - 1e-12):
+                self._step(end)
+                self._emit()
+                if sim.step_count % 20 == 0:
+                    bar.update(sim, sim.step_count - step0, self.t0)
+                if self.stop_reason is not None:
+                    self.checkpoint()
+                    raise Interrupted(self.stop_reason)
+                if self._checkpoint_due():
+                    self.checkpoint()
+            self._emit(force=True)
+            bar.update(sim, sim.step_count - step0, self.t0)
+            self.checkpoint()
+        finally:
+            bar.close()
+            for w in self.writers:
+                w.close(sim)
+        wall = wallclock.perf_counter() - self.t0
+        return RunSummary(sim.step_count, sim.time, wall, sim.state.n, sim.step_count - step0, self.deleted)
+
+
+def run(sim: Simulation, run_dir, writers, progress: bool = True, until: float | None = None) -> RunSummary:
+    """Run ``sim`` from its current state to ``until`` (default: the case's end time)."""
+    return Runner(sim, run_dir, writers, progress).run(until)

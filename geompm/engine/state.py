@@ -69,3 +69,16 @@ class ParticleState:
 
     def nbytes(self) -> int:
         return sum(a.nbytes for a in self.arrays().values()) + sum(s.nbytes for s in self.p_state)
+
+    def remove(self, mask: np.ndarray) -> None:
+        """Delete the particles where ``mask`` is true, keeping the blocks per material contiguous."""
+        keep = ~np.asarray(mask, bool)
+        for name, arr in self.arrays().items():
+            setattr(self, name, np.ascontiguousarray(arr[keep]))
+        blocks, states, start = [], [], 0
+        for (a, b), sv in zip(self.blocks, self.p_state):
+            k = keep[a:b]
+            states.append(np.ascontiguousarray(sv[k]))
+            blocks.append((start, start + int(k.sum())))
+            start = blocks[-1][1]
+        self.blocks, self.p_state = blocks, states

@@ -217,3 +217,13 @@ class RigidObstacle(GridStage):
     def summary(self) -> str:
         unit = "N" if self.dim == 3 else "N/m"
         return f"obstacle '{self.label}': peak force {self.peak[0]:.4g} {unit} at t = {self.peak[1]:.4g} s"
+
+    def state_dict(self) -> dict:
+        return {"peak": list(self.peak), "force": self.force.tolist(), "fn": float(getattr(self, "fn", 0.0)),
+                "ft": float(getattr(self, "ft", 0.0)), "moment": np.asarray(getattr(self, "moment", np.zeros(3))).tolist()}
+
+    def load_state(self, state: dict) -> None:
+        self.peak = tuple(state["peak"])
+        self.force = np.asarray(state["force"], float)
+        self.fn, self.ft = state["fn"], state["ft"]
+        self.moment = np.asarray(state["moment"], float)

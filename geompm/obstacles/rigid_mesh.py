@@ -13,7 +13,7 @@ import numpy as np
 from pydantic import Field
 
 from ..errors import CaseError
-from ..fileio import case_relative
+from ..fileio import case_relative, unreadable_file
 from ..geometry import load_surface_mesh
 from .base import ObstacleParams, RigidObstacle
 
@@ -42,8 +42,9 @@ class RigidMesh(RigidObstacle):
 
         path = case_relative(scene.base_dir, self.params.file)
         where = f"{self.json_path}.file"
-        if not path.is_file():
-            raise CaseError([(where, f"mesh file '{self.params.file}' not found (looked in {path.parent})")])
+        problem = unreadable_file(path, self.params.file)
+        if problem:
+            raise CaseError([(where, f"mesh {problem}")])
         mesh = load_surface_mesh(path, self.params.scale, [0.0, 0.0, 0.0], where)
         for k, deg in enumerate(self.params.rotate):
             if deg:

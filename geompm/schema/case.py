@@ -37,6 +37,21 @@ class TimeSpec(Strict):
     dt: float | None = Field(
         None, gt=0, description="Fixed time step [s]; overrides the adaptive CFL step (use with care)"
     )
+    dt_min: float = Field(
+        1e-9, gt=0, description="The run stops (exit 3) if the stable time step falls below this [s]"
+    )
+
+
+class RunSpec(Strict):
+    """How a run is kept safe: checkpoints and what happens to particles that leave the grid."""
+
+    checkpoint_interval: float | None = Field(
+        None, gt=0, description="Simulated time between two checkpoints [s]; none if omitted")
+    checkpoint_wall_minutes: float | None = Field(
+        10.0, gt=0, description="Wall-clock minutes between two checkpoints; null: none on a timer")
+    keep_checkpoints: int = Field(2, ge=1, description="How many of the newest checkpoints to keep")
+    on_leave_domain: Literal["error", "delete"] = Field(
+        "error", description="A particle leaving the grid stops the run (exit 3) or is deleted (warned once)")
 
 
 class SolverSpec(Strict):
@@ -147,3 +162,4 @@ class Case(Strict):
     obstacles: list[PluginSpec] = Field(default_factory=list)
     damping: list[DampingSpec] = Field(default_factory=list)
     outputs: list[OutputSpec] = Field(default_factory=list)
+    run: RunSpec = Field(default_factory=RunSpec)

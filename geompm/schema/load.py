@@ -16,11 +16,13 @@ import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
 from pydantic import ValidationError
 
 from .. import registry
 from ..errors import CaseError, join_path
-from ..fileio import case_relative
+from ..fileio import case_relative, unreadable_file
+from ..resources import available_memory, grid_bytes, particle_bytes, window_nodes
 from .case import Case, DampingSpec, MaterialSpec, OutputSpec, PluginSpec
 from .errors import format_validation_error
 
@@ -161,9 +163,9 @@ def _check_body(i, body, case: Case, base_dir: Path, problems):
     elif geom.type == "stl":
         if dim != 3:
             problems.append((f"{gpath}.type", "an 'stl' body needs a 3D case; use 'polygon' in 2D"))
-        p = case_relative(base_dir, geom.file)
-        if not p.is_file():
-            problems.append((f"{gpath}.file", f"mesh file '{geom.file}' not found (looked in {p.parent})"))
+        problem = unreadable_file(case_relative(base_dir, geom.file), geom.file)
+        if problem:
+            problems.append((f"{gpath}.file", f"mesh {problem}"))
 
 
 _PLUGIN_LISTS = (
@@ -225,9 +227,42 @@ def parse_case(raw: dict, base_dir: str | Path = ".") -> LoadedCase:
         _check_body(i, body, case, base_dir, problems)
     loaded = LoadedCase(case=case, base_dir=base_dir, raw=raw)
     _plugin_pass(raw, case, loaded, problems)
+    if not problems:
+        _check_memory(case, problems)
     if problems:
         raise CaseError(problems)
     return loaded
+
+
+def _check_memory(case: Case, problems) -> None:
+    """Refuse a case whose particles and grid window would not fit in the available memory.
+
+    Particle counts come from each body's bounding box (an upper bound), before
+    anything is seeded."""
+    dim, h = case.dimension, case.grid.cell_size
+    particles, lo, hi = 0.0, None, None
+    for body in case.bodies:
+        g = body.geometry
+        if g.type == "box":
+            blo, bhi = np.asarray(g.min, float), np.asarray(g.max, float)
+        elif g.type == "polygon":
+            v = np.asarray(g.vertices, float)
+            blo, bhi = v.min(axis=0), v.max(axis=0)
+            if dim == 3:
+                blo, bhi = np.r_[blo, g.extrude[0]], np.r_[bhi, g.extrude[1]]
+        else:
+            continue  # a mesh body: its size is known only after loading it
+        particles += float(np.prod(np.maximum(bhi - blo, 0.0) / h * body.particles_per_cell + 1))
+        lo = blo if lo is None else np.minimum(lo, blo)
+        hi = bhi if hi is None else np.maximum(hi, bhi)
+    if lo is None:
+        return
+    need = particles * particle_bytes(dim) + grid_bytes(window_nodes(lo, hi, h), dim)
+    have = available_memory()
+    if have is not None and need > have:
+        problems.append(("grid.cell_size", f"the case needs about {need / 2**30:.1f} GiB "
+                                           f"({particles:.3g} particles) but {have / 2**30:.1f} GiB is available; "
+                                           "raise cell_size or lower particles_per_cell"))
 
 
 def load_case(path: str | Path, sets=()) -> LoadedCase:

@@ -1,7 +1,12 @@
 """Writer plugin shape: ``open(run_dir, sim)``, ``write(sim)``, ``close(sim)``.
 
 The runner calls ``write`` at t = 0, every ``interval`` simulated seconds
-(every step when the interval is 0) and at the end of the run.
+(every step when the interval is 0) and at the end of the run.  For
+checkpoints, ``state()`` returns what the writer needs to carry on (plain JSON
+values) and ``resume(run_dir, sim, state)`` replaces ``open`` on a resumed run:
+it must drop whatever was written after that state, so the resumed output has
+no duplicate and no missing entry.  Every file must be written so that a
+killed process leaves it readable (fileio.atomic_path, or one write() per row).
 """
 
 from __future__ import annotations
@@ -24,3 +29,9 @@ class Writer(Plugin):
 
     def close(self, sim) -> None:
         pass
+
+    def state(self) -> dict:
+        return {}
+
+    def resume(self, run_dir: Path, sim, state: dict) -> None:
+        self.open(run_dir, sim)

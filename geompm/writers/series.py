@@ -61,16 +61,31 @@ class SeriesWriter(Writer):
             row["K_star"] = row["kinetic_energy"] / (self.mass * g * nm.height)
         return row
 
-    def open(self, run_dir, sim):
+    def _setup(self, run_dir, sim):
         nm = self.params.normalise
         if nm is not None:
             self.origin = np.asarray(nm.origin, float)
             self.direction = np.asarray(nm.direction, float) / np.linalg.norm(nm.direction)
             self.mass = float(sim.state.p_mass.sum())
-        self.columns = list(self._row(sim))
         self.path = run_dir / "series.csv"
+
+    def open(self, run_dir, sim):
+        self._setup(run_dir, sim)
+        self.columns = list(self._row(sim))
         self.fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_APPEND, 0o644)
         os.write(self.fd, (",".join(self.columns) + "\n").encode())
+
+    def state(self):
+        return {"columns": self.columns, "bytes": os.fstat(self.fd).st_size, "mass": getattr(self, "mass", None)}
+
+    def resume(self, run_dir, sim, state):
+        """Reopen series.csv and cut the rows written after the checkpoint."""
+        self._setup(run_dir, sim)
+        if state.get("mass") is not None:
+            self.mass = state["mass"]  # the initial mass, even if particles were deleted since
+        self.columns = state["columns"]
+        self.fd = os.open(self.path, os.O_WRONLY | os.O_APPEND)
+        os.ftruncate(self.fd, state["bytes"])
 
     def write(self, sim):
         row = self._row(sim)

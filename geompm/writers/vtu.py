@@ -79,7 +79,19 @@ class VtuWriter(Writer):
         with atomic_path(self.dir / fname) as tmp:
             meshio.write(tmp, mesh, file_format="vtu", binary=self.params.binary)
         self.entries.append((sim.time, f"particles/{fname}"))
+        self._write_pvd()
+
+    def _write_pvd(self):
         rows = "\n".join(f'    <DataSet timestep="{t:.10g}" group="" part="0" file="{f}"/>'
                          for t, f in self.entries)
         atomic_write_text(self.pvd, '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
                           f"  <Collection>\n{rows}\n  </Collection>\n</VTKFile>\n")
+
+    def state(self):
+        return {"entries": [list(e) for e in self.entries]}
+
+    def resume(self, run_dir, sim, state):
+        """Keep the files listed at the checkpoint; later ones are overwritten as the run repeats them."""
+        self.open(run_dir, sim)
+        self.entries = [tuple(e) for e in state["entries"]]
+        self._write_pvd()

@@ -1,0 +1,174 @@
+"""Blow-up detection: stop a run whose state has become unphysical, and say why.
+
+Checked after every step, in one parallel pass over the particles:
+
+- a NaN or Inf in any position, velocity or stress;
+- kinetic energy beyond what the run can supply.  Energy conservation bounds
+  E_k(t) <= E_k(0) + W_g(t) + U_0 + E_v, with W_g = sum m g . (x - x0) the work
+  done by gravity, U_0 = sum V sigma:sigma / (2 E) the strain energy the
+  initial stress can release, and E_v = 2 M v_o^2 for obstacles moving at v_o.
+  An explicit scheme past its stability limit grows energy exponentially, so the
+  check uses a factor 2 on that bound plus a floor of 1e-6 M |g| L (L the grid
+  diagonal), far above the small energy errors of a stable run;
+- before each step, a stable time step below ``time.dt_min`` (viscous limits
+  of stiff fluids, or runaway speeds).
+
+Each message names the step, time, particle index, body and material and the
+likely cause with a remedy.  Particles leaving the grid are caught by the grid
+window (grid.py) or, with ``run.on_leave_domain = "delete"``, removed here.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from ..errors import SimulationError
+
+
+@njit(parallel=True, cache=True)
+def health_sums(p_x, p_x0, p_v, p_stress, p_mass, gravity):
+    """(number of particles with a non-finite field, kinetic energy, work done by gravity)."""
+    n, d = p_x.shape
+    bad = 0
+    ek = 0.0
+    wg = 0.0
+    for p in prange(n):
+        ok = True
+        v2 = 0.0
+        w = 0.0
+        for a in range(d):
+            if not (math.isfinite(p_x[p, a]) and math.isfinite(p_v[p, a])):
+                ok = False
+            v2 += p_v[p, a] * p_v[p, a]
+            w += gravity[a] * (p_x[p, a] - p_x0[p, a])
+        for k in range(6):
+            if not math.isfinite(p_stress[p, k]):
+                ok = False
+        if ok:
+            ek += 0.5 * p_mass[p] * v2
+            wg += p_mass[p] * w
+        else:
+            bad += 1
+    return bad, ek, wg
+
+
+@njit(parallel=True, cache=True)
+def outside_grid(p_x, lo, hi):
+    """Mask of particles outside the box [lo, hi]."""
+    n, d = p_x.shape
+    out = np.zeros(n, np.bool_)
+    for p in prange(n):
+        for a in range(d):
+            if not (lo[a] <= p_x[p, a] <= hi[a]):
+                out[p] = True
+    return out
+
+
+def _first_nonfinite(st) -> int:
+    bad = ~(np.isfinite(st.p_x).all(axis=1) & np.isfinite(st.p_v).all(axis=1) & np.isfinite(st.p_stress).all(axis=1))
+    return int(np.argmax(bad))
+
+
+def _strain_energy(scene) -> float:
+    st = scene.state
+    u = 0.0
+    for mat, (s, e) in zip(scene.materials, st.blocks):
+        try:
+            stiff = mat.stiffness()
+        except NotImplementedError:
+            continue
+        sig = st.p_stress[s:e]
+        u += float((st.p_vol[s:e] * ((sig[:, :3] ** 2).sum(axis=1) + 2 * (sig[:, 3:] ** 2).sum(axis=1))).sum()) / (2 * stiff)
+    return u
+
+
+def describe_particle(sim, p) -> str:
+    st, sc = sim.state, sim.scene
+    return (f"particle {p} (body {int(st.p_body[p])}, material '{sc.material_names[int(st.p_material[p])]}') "
+            f"at step {sim.step_count}, t = {sim.time:.6g} s")
+
+
+class HealthCheck:
+    def __init__(self, scene):
+        st = scene.state
+        self.scene = scene
+        mass = float(st.p_mass.sum())
+        g = float(np.linalg.norm(scene.gravity))
+        diag = float(np.linalg.norm(scene.grid.upper - scene.grid.origin))
+        v_obs = max((float(np.linalg.norm(o.vel)) for o in scene.obstacles if hasattr(o, "vel")), default=0.0)
+        _, ek0, _ = health_sums(st.p_x, st.p_x0, st.p_v, st.p_stress, st.p_mass, scene.gravity)
+        self.budget0 = ek0 + _strain_energy(scene) + 2.0 * mass * v_obs ** 2
+        self.floor = 1e-6 * mass * max(g, 1.0) * diag
+        self.kinetic_energy = ek0
+
+    def after_step(self, sim) -> None:
+        st, sc = sim.state, self.scene
+        bad, ek, wg = health_sums(st.p_x, st.p_x0, st.p_v, st.p_stress, st.p_mass, sc.gravity)
+        self.kinetic_energy = ek
+        if bad:
+            p = _first_nonfinite(st)
+            field = next(name for name, arr in (("position", st.p_x), ("velocity", st.p_v), ("stress", st.p_stress))
+                         if not np.isfinite(arr[p]).all())
+            raise SimulationError(
+                f"NaN or Inf in the {field} of {describe_particle(sim, p)} ({bad} particles affected). Likely cause: "
+                f"{self._likely_cause(sim)}")
+        allowed = self.budget0 + max(wg, 0.0)
+        if ek > 2.0 * allowed + self.floor:
+            p = int(np.argmax((st.p_v ** 2).sum(axis=1)))
+            raise SimulationError(
+                f"kinetic energy {ek:.4g} J exceeds what gravity, the initial stress and moving obstacles can "
+                f"supply ({allowed:.4g} J) at step {sim.step_count}, t = {sim.time:.6g} s; fastest: "
+                f"{describe_particle(sim, p)}, |v| = {np.linalg.norm(st.p_v[p]):.4g} m/s. Likely cause: "
+                f"{self._likely_cause(sim)}")
+
+    def before_step(self, sim, dt) -> None:
+        sc = self.scene
+        if dt >= sc.dt_min:
+            return
+        st = sim.state
+        p = int(np.argmax((st.p_v ** 2).sum(axis=1)))
+        if sc.nu_max > 0.0 and sc.grid.h ** 2 / (2 * sc.dim * sc.nu_max) <= dt * (1 + 1e-9):
+            k = int(np.argmax([m.kinematic_viscosity() for m in sc.materials]))
+            cause = (f"the viscous limit h^2 / (2 d nu) with nu = {sc.nu_max:.3g} m2/s from material "
+                     f"'{sc.material_names[k]}' (for 'cross' its mu_0) makes the step tiny; raise grid.cell_size "
+                     f"or lower the viscosity (mu_0)")
+        else:
+            cause = (f"particle speeds grew to {np.linalg.norm(st.p_v[p]):.3g} m/s ({describe_particle(sim, p)}); "
+                     f"{self._likely_cause(sim)}")
+        raise SimulationError(f"dt fell to {dt:.3g} s, below time.dt_min = {sc.dt_min:g} s, at step "
+                              f"{sim.step_count}, t = {sim.time:.6g} s, because {cause}")
+
+    def _likely_cause(self, sim) -> str:
+        sc = self.scene
+        if sc.dt_fixed is not None:
+            c = max((m.wave_speed(sim.state.p_rho[s:e]) for m, (s, e) in zip(sc.materials, sim.state.blocks)
+                     if e > s and np.isfinite(sim.state.p_rho[s:e]).all()), default=0.0)
+            courant = sc.dt_fixed * c / sc.grid.h
+            if courant > 1.0:
+                return (f"the fixed time.dt = {sc.dt_fixed:g} s is {courant:.2g} times the wave-crossing time "
+                        f"of a cell (Courant number above 1); remove time.dt or make it smaller")
+        return ("a numerical instability: lower time.cfl (e.g. 0.3), check the material parameters "
+                "(stiffness, viscosity) and the boundary set-up")
+
+
+def check_domain(sim, delete: bool) -> int:
+    """Particles more than one cell outside the grid (where their stencil leaves it): delete them and
+    return how many, or stop the run naming the first one."""
+    sc = sim.scene
+    h = sc.grid.h
+    mask = outside_grid(sim.state.p_x, sc.grid.origin - h, sc.grid.upper + h)
+    k = int(mask.sum())
+    if not k:
+        return 0
+    if delete:
+        sim.state.remove(mask)
+        return k
+    p = int(np.argmax(mask))
+    raise SimulationError(
+        f"{describe_particle(sim, p)} left the grid at x = {np.array2string(sim.state.p_x[p], precision=4)} "
+        f"m ({k} particles outside [{np.array2string(sc.grid.origin, precision=4)}, "
+        f"{np.array2string(sc.grid.upper, precision=4)}] m). Enlarge grid.extent, add wall boundaries, or set "
+        f"run.on_leave_domain to \"delete\"")
