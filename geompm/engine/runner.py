@@ -178,6 +178,10 @@ class Runner:
         try:
             self._emit(force=not self.resumed)
             while sim.time < end * (1 - 1e-12):
+                if sim.state.n == 0:
+                    self.warn_once("empty", f"every particle has left the grid by t = {sim.time:.6g} s: "
+                                            "the run ends here")
+                    break
                 self._step(end)
                 self._emit()
                 if sim.step_count % 20 == 0:

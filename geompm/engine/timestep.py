@@ -20,7 +20,8 @@ def stable_dt(scene, state) -> float:
     for mat, (s, e) in zip(scene.materials, state.blocks):
         if e > s:
             c = max(c, mat.wave_speed(state.p_rho[s:e]))
-    dt = scene.cfl * scene.grid.h / (c + max_speed(state.p_v))
+    speed = c + (max_speed(state.p_v) if state.n else 0.0)
+    dt = scene.cfl * scene.grid.h / speed if speed > 0.0 else float("inf")
     if scene.nu_max > 0.0:
         dt = min(dt, scene.grid.h ** 2 / (2 * scene.dim * scene.nu_max))
     if scene.dt_max is not None:

@@ -1,0 +1,158 @@
+"""Bad input is refused by `geompm run` before anything is computed: exit code 2, the JSON path
+and what is wrong on stderr, and no run folder left behind (issue 5, point 6).
+
+Each case mutates the valid tiny case (tests/conftest.py) in one way.  The
+physical bounds are those of the laws' definitions: 0 <= nu < 0.5 for an
+isotropic elastic solid with positive bulk modulus, rho > 0, E > 0,
+0 <= phi < 90 deg for a friction angle.
+"""
+
+import json
+import os
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from geompm.cli import main
+from geompm.errors import CaseError
+from geompm.schema import parse_case
+
+from .conftest import tiny_case
+
+
+def _dp(case):
+    case["materials"]["soil"] = {"model": "drucker_prager", "density": 2000.0, "youngs_modulus": 1e6,
+                                 "poisson_ratio": 0.3, "friction_angle": 30.0}
+    return case
+
+
+def _overlap(case):
+    case["bodies"].append({"material": "soil", "geometry": {"type": "box", "min": [0.5, 0.3], "max": [0.8, 0.6]}})
+    return case
+
+
+def _mesh_body(name):
+    def mutate(case):
+        case["dimension"] = 3
+        case["grid"] = {"origin": [0, 0, 0], "extent": [1, 1, 1], "cell_size": 0.1}
+        case["gravity"] = [0, -9.81, 0]
+        case["bodies"][0]["geometry"] = {"type": "stl", "file": name}
+        return case
+    return mutate
+
+
+def _set(path, value):
+    def mutate(case):
+        node = case
+        keys = path.split(".")
+        for k in keys[:-1]:
+            node = node[int(k)] if isinstance(node, list) else node[k]
+        node[keys[-1]] = value
+        return case
+    return mutate
+
+
+REFUSED = [
+    ("unknown key", _set("time.cfll", 0.5), "time.cfll", "did you mean 'cfl'"),
+    ("wrong type", _set("grid.cell_size", "fine"), "grid.cell_size", "must be a number"),
+    ("nu = 0.5", _set("materials.soil.poisson_ratio", 0.5), "materials.soil.poisson_ratio", "< 0.5"),
+    ("density 0", _set("materials.soil.density", 0.0), "materials.soil.density", "> 0"),
+    ("modulus < 0", _set("materials.soil.youngs_modulus", -1e6), "materials.soil.youngs_modulus", "> 0"),
+    ("phi = 90", lambda c: _set("materials.soil.friction_angle", 90.0)(_dp(c)),
+     "materials.soil.friction_angle", "< 90"),
+    ("phi < 0", lambda c: _set("materials.soil.friction_angle", -5.0)(_dp(c)),
+     "materials.soil.friction_angle", ">= 0"),
+    ("ppc 0", _set("bodies.0.particles_per_cell", 0), "bodies.0.particles_per_cell", ">= 1"),
+    ("body outside", _set("bodies.0.geometry.max", [1.5, 0.4]), "bodies.0.geometry", "outside the grid"),
+    ("overlap", _overlap, "bodies.1.geometry", "overlaps bodies.0"),
+    ("missing mesh", _mesh_body("meshes/none.stl"), "bodies.0.geometry.file", "not found"),
+    ("memory", _set("grid.cell_size", 2e-5), "grid.cell_size", "GiB"),
+    ("output interval", _set("outputs.0.interval", 1e-6), "outputs.0.interval", "shorter than the time step"),
+]
+
+
+@pytest.mark.parametrize("mutate,where,words", [r[1:] for r in REFUSED], ids=[r[0] for r in REFUSED])
+def test_run_refuses_bad_input_before_work(tmp_path, capsys, mutate, where, words):
+    f = tmp_path / "case.json"
+    f.write_text(json.dumps(mutate(tiny_case())))
+    run = tmp_path / "run"
+    assert main(["run", str(f), "--out", str(run), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert any(ln.strip().startswith(f"{where}:") and words in ln for ln in err.splitlines()), err
+    assert not run.exists()
+
+
+def test_malformed_json_names_line_and_column(tmp_path, capsys):
+    f = tmp_path / "case.json"
+    f.write_text('{"name": "x",\n "dimension": 2\n "grid": {}}')
+    assert main(["run", str(f), "--out", str(tmp_path / "run")]) == 2
+    assert "line 3, column 2" in capsys.readouterr().err
+    assert not (tmp_path / "run").exists()
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root reads any file; the permission check cannot be seen")
+def test_unreadable_mesh_is_refused(tmp_path, capsys):
+    (tmp_path / "meshes").mkdir()
+    mesh = tmp_path / "meshes" / "m.stl"
+    mesh.write_text("solid x\nendsolid x\n")
+    mesh.chmod(0)
+    f = tmp_path / "case.json"
+    f.write_text(json.dumps(_mesh_body("meshes/m.stl")(tiny_case())))
+    assert main(["validate", str(f)]) == 2
+    assert "cannot be read" in capsys.readouterr().err
+
+
+# -- property-based: any mutation loads or fails with CaseError and a JSON path -----------------
+
+_LEAF = st.one_of(st.none(), st.booleans(), st.integers(-10**6, 10**6),
+                  st.floats(allow_nan=False, allow_infinity=False, width=32), st.text(max_size=8),
+                  st.lists(st.floats(-2.0, 2.0, allow_nan=False), max_size=4))
+
+
+def _paths(node, prefix=()):
+    yield prefix
+    if isinstance(node, dict):
+        for k, v in node.items():
+            yield from _paths(v, prefix + (k,))
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            yield from _paths(v, prefix + (i,))
+
+
+@st.composite
+def mutated_cases(draw):
+    case = tiny_case()
+    paths = [p for p in _paths(case) if p]
+    for _ in range(draw(st.integers(1, 3))):
+        path = draw(st.sampled_from(paths))
+        node = case
+        try:
+            for k in path[:-1]:
+                node = node[k]
+            action = draw(st.sampled_from(["replace", "delete", "add"]))
+            if action == "replace":
+                node[path[-1]] = draw(_LEAF)
+            elif action == "delete" and isinstance(node, dict):
+                del node[path[-1]]
+            elif isinstance(node, dict):
+                node[draw(st.text(min_size=1, max_size=6))] = draw(_LEAF)
+        except (KeyError, IndexError, TypeError):
+            pass  # an earlier mutation changed the shape above this path
+    return case
+
+
+@settings(max_examples=250, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(mutated_cases())
+def test_mutated_cases_load_or_fail_with_a_json_path(case):
+    """250 mutated cases (replace, delete or add a key anywhere, up to 3 times): the loader and the
+    assembly either succeed or raise CaseError whose every problem has a JSON path and a message."""
+    from geompm.assemble import assemble
+
+    try:
+        assemble(parse_case(case))
+    except CaseError as exc:
+        assert exc.problems
+        for path, msg in exc.problems:
+            assert isinstance(path, str) and msg
+            assert path or "case" in msg or "grid" in msg or "JSON" in msg, exc.problems
