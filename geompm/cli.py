@@ -147,7 +147,7 @@ def cmd_run(args) -> int:
     if args.resume:
         from .engine import checkpoint
 
-        nchunks = checkpoint.load(run_dir)[1]["nchunks"]
+        nchunks = checkpoint.read_meta(run_dir)["nchunks"]
     sim = Simulation(scene, nchunks=nchunks)
     runner = Runner(sim, run_dir, writers, progress=not args.quiet)
     if args.resume:

@@ -69,7 +69,7 @@ def _run(run_dir, stop_at=None):
 
 def _resume(run_dir):
     scene = scene_from_dict(_case())
-    nchunks = checkpoint.load(run_dir)[1]["nchunks"]
+    nchunks = checkpoint.read_meta(run_dir)["nchunks"]
     sim = Simulation(scene, nchunks=nchunks)
     runner = Runner(sim, run_dir, list(scene.writers), progress=False)
     runner.resume()

@@ -51,16 +51,21 @@ def newest(run_dir: Path) -> Path | None:
     return found[-1] if found else None
 
 
-def load(run_dir: Path) -> tuple[dict, dict]:
+def read_meta(run_dir: Path) -> dict:
+    """The JSON meta of the newest checkpoint only (npz members load lazily); CaseError if none."""
+    return load(run_dir, arrays=False)[1]
+
+
+def load(run_dir: Path, arrays: bool = True) -> tuple[dict, dict]:
     """(arrays, meta) of the newest checkpoint of a run folder; CaseError if there is none."""
     path = newest(run_dir)
     if path is None:
         raise CaseError([("", f"no checkpoint in '{Path(run_dir) / FOLDER}': the run cannot be resumed "
                               "(was it started with geompm 0.2 or later?)")])
     with np.load(path, allow_pickle=False) as data:
-        arrays = {k: data[k] for k in data.files if k != "meta"}
         meta = json.loads(str(data["meta"]))
-    return arrays, meta
+        out = {k: data[k] for k in data.files if k != "meta"} if arrays else {}
+    return out, meta
 
 
 def restore(sim, arrays: dict, meta: dict) -> None:
