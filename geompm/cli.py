@@ -1,4 +1,4 @@
-"""Command line: ``geompm run | validate | info | plot | plugins | schema``.
+"""Command line: ``geompm run | validate | info | plot | study | plugins | schema``.
 
 Exit codes: 0 success, 2 invalid case or arguments (nothing computed),
 3 the simulation became unphysical, 130 interrupted.
@@ -17,6 +17,7 @@ from pathlib import Path
 from . import __version__, registry
 from .errors import CaseError, SimulationError
 from .fileio import atomic_write_text
+from .study.command import add_parser as study_parser
 
 log = logging.getLogger("geompm")
 
@@ -96,11 +97,18 @@ def _run_folder(args, loaded, scene) -> Path:
 
 
 def _write_status(run_dir: Path, scene, runner, summary, finished: bool, reason: str = "") -> None:
+    import numba
+
+    from .resources import peak_rss
+
     sim = runner.sim
     status = {
         "case": scene.name, "finished": finished, "reason": reason, "time": sim.time, "end_time": scene.end_time,
         "steps": sim.step_count, "particles": sim.state.n, "deleted_particles": runner.deleted,
+        "cells": int(scene.grid.ncells.prod()), "cell_size": scene.grid.h, "threads": numba.get_num_threads(),
         "wall_seconds": runner.wall_before + (summary.wall_seconds if summary else 0.0),
+        "particle_steps_per_second": summary.particle_steps_per_second if summary else None,
+        "peak_rss_bytes": peak_rss(),
         "front_x": float(sim.state.p_x[:, 0].max()) if sim.state.n else None,
         "obstacles": {o.label: {"peak_force": o.peak[0], "peak_time": o.peak[1]}
                       for o in scene.obstacles if hasattr(o, "peak")},
@@ -280,6 +288,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("run_dir")
     p.add_argument("-o", "--output", help="folder for the PNGs (default RUN_DIR/plots)")
     p.set_defaults(func=cmd_plot)
+    study_parser(sub)
     p = sub.add_parser("plugins", help="list installed plugins")
     p.set_defaults(func=cmd_plugins)
     p = sub.add_parser("schema", help="print the case JSON Schema (or write it with -o)")

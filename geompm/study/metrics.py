@@ -1,0 +1,130 @@
+"""What a study measures in each run, and how far it is from a reference.
+
+Scalar metrics (one number per run):
+- ``runout``: ``front_x`` [m] at the last row of series.csv;
+- ``peak_force:LABEL``: the largest |F| [N; N/m in 2D] on obstacle LABEL, taken
+  every step (status.json), not only at output times;
+- ``impulse:LABEL``: the integral of |F| over the run [N s; N s/m in 2D],
+  trapezoid rule over the series.csv rows.
+
+Time-series metrics: ``front_x``, ``kinetic_energy`` and any other series.csv
+column (``X_star``, ``K_star``, ...).  Their error is the relative L2 norm
+
+    e = sqrt( int (a(t) - r(t))^2 dt / int r(t)^2 dt )
+
+over the times both runs cover, with ``a`` interpolated linearly to the
+reference's times.  Scalar errors are relative: |a - r| / |r|.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+SERIES_DEFAULT = ("front_x", "kinetic_energy")
+
+
+def read_series(path: str | Path) -> dict[str, np.ndarray]:
+    """Columns of a CSV with a header row, as float arrays (``time`` first)."""
+    with open(path, newline="") as fh:
+        rows = list(csv.reader(fh))
+    if not rows or "time" not in rows[0]:
+        raise ValueError(f"{path}: a CSV with a 'time' column is needed")
+    head, body = rows[0], [r for r in rows[1:] if len(r) == len(rows[0])]
+    return {c: np.array([float(r[i]) for r in body]) for i, c in enumerate(head)}
+
+
+def obstacle_labels(series: dict) -> list[str]:
+    return sorted(c[:-3] for c in series if c.endswith("_fx"))
+
+
+def force_magnitude(series: dict, label: str) -> np.ndarray:
+    comps = [series[f"{label}_f{c}"] for c in "xyz" if f"{label}_f{c}" in series]
+    return np.sqrt(sum(f ** 2 for f in comps))
+
+
+def scalar_metrics(series: dict, status: dict | None = None) -> dict[str, float]:
+    out = {}
+    if "front_x" in series and len(series["front_x"]):
+        out["runout"] = float(series["front_x"][-1])
+    peaks = (status or {}).get("obstacles", {})
+    for label in obstacle_labels(series):
+        f = force_magnitude(series, label)
+        out[f"peak_force:{label}"] = float(peaks[label]["peak_force"]) if label in peaks else float(f.max())
+        out[f"impulse:{label}"] = _integral(f, series["time"])
+    return out
+
+
+def read_run(run_dir: str | Path) -> tuple[dict, dict]:
+    """(series columns, status) of a run folder."""
+    run_dir = Path(run_dir)
+    status_file = run_dir / "status.json"
+    status = json.loads(status_file.read_text()) if status_file.is_file() else {}
+    return read_series(run_dir / "series.csv"), status
+
+
+def series_error(run: dict, ref: dict, column: str) -> float:
+    """Relative L2 distance of ``run[column]`` from ``ref[column]`` over their common times."""
+    if column not in run or column not in ref:
+        return math.nan
+    t_ref, r = ref["time"], ref[column]
+    t_run = run["time"]
+    if len(t_run) < 2 or len(t_ref) < 2:
+        return math.nan
+    inside = (t_ref >= t_run[0]) & (t_ref <= t_run[-1])
+    if inside.sum() < 2:
+        return math.nan
+    t = t_ref[inside]
+    a = np.interp(t, t_run, run[column])
+    r = r[inside]
+    num = _integral((a - r) ** 2, t)
+    den = _integral(r ** 2, t)
+    return math.sqrt(num / den) if den > 0 else math.sqrt(num)
+
+
+def _integral(y, t) -> float:
+    return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(t)))
+
+
+def relative_error(value: float, ref: float) -> float:
+    if value is None or ref is None or not math.isfinite(value) or not math.isfinite(ref):
+        return math.nan
+    return abs(value - ref) / abs(ref) if ref != 0 else abs(value - ref)
+
+
+def richardson_order(h: list[float], f: list[float], iterations: int = 50) -> float:
+    """Observed order p from three solutions f at cell sizes h (any order, h distinct).
+
+    Celik et al. (2008) J. Fluids Eng. 130:078001, eqs. 3-5, which allow a
+    non-constant refinement ratio:  p = |ln|e32/e21| + q(p)| / ln r21,
+    q(p) = ln((r21^p - s) / (r32^p - s)), s = sign(e32/e21), with h1 < h2 < h3,
+    e21 = f2 - f1, e32 = f3 - f2, r21 = h2/h1, r32 = h3/h2.  NaN when the
+    differences vanish or change sign (oscillatory convergence).
+    """
+    (h1, f1), (h2, f2), (h3, f3) = sorted(zip(h, f))[:3]
+    e21, e32 = f2 - f1, f3 - f2
+    if e21 == 0 or e32 == 0 or e32 / e21 < 0:
+        return math.nan
+    r21, r32 = h2 / h1, h3 / h2
+    s = 1.0
+    p = abs(math.log(abs(e32 / e21))) / math.log(r21)
+    for _ in range(iterations):
+        try:
+            q = math.log((r21 ** p - s) / (r32 ** p - s))
+        except (ValueError, ZeroDivisionError, OverflowError):
+            return math.nan
+        p = abs(math.log(abs(e32 / e21)) + q) / math.log(r21)
+    return p
+
+
+def fitted_order(h: list[float], err: list[float]) -> float:
+    """Slope of log(error) against log(h): the order of the error against a finer reference."""
+    pts = [(a, b) for a, b in zip(h, err) if a > 0 and b is not None and math.isfinite(b) and b > 0]
+    if len(pts) < 2 or len({a for a, _ in pts}) < 2:
+        return math.nan
+    x, y = np.log([a for a, _ in pts]), np.log([b for _, b in pts])
+    return float(np.polyfit(x, y, 1)[0])
