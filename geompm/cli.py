@@ -1,4 +1,4 @@
-"""Command line: ``geompm run | validate | info | plot | study | plugins | schema``.
+"""Command line: ``geompm run | validate | info | plot | study | calibrate | plugins | schema``.
 
 Exit codes: 0 success, 2 invalid case or arguments (nothing computed),
 3 the simulation became unphysical, 130 interrupted.
@@ -17,6 +17,7 @@ from pathlib import Path
 from . import __version__, registry
 from .errors import CaseError, SimulationError
 from .fileio import atomic_write_text
+from .study.calibrate import add_parser as calibrate_parser
 from .study.command import add_parser as study_parser
 
 log = logging.getLogger("geompm")
@@ -55,7 +56,7 @@ def _estimate(scene) -> tuple[float, int, float]:
 
 
 def cmd_validate(args) -> int:
-    _, scene = _load(args)
+    loaded, scene = _load(args)
     mem, nodes, dt = _estimate(scene)
     cells = int(scene.grid.ncells.prod())
     print(f"case '{scene.name}' is valid: {scene.dim}D, {scene.state.n} particles, "
@@ -63,7 +64,18 @@ def cmd_validate(args) -> int:
           f"~{nodes} active nodes")
     print(f"estimated memory {mem / 2**20:.1f} MiB, first time step {dt:.3g} s, "
           f"~{scene.end_time / dt:.0f} steps to t = {scene.end_time:g} s")
+    _viscous_warning(loaded, scene, print)
     return 0
+
+
+def _viscous_warning(loaded, scene, emit) -> None:
+    """Say so when viscosity sets the time step: the step, the steps, a measured run time, the remedies."""
+    from .assemble import assemble
+    from .engine.estimate import viscous_report
+
+    rep = viscous_report(scene, lambda: assemble(loaded))
+    if rep is not None:
+        emit("warning: " + rep.message(scene.end_time))
 
 
 def _same_case(old: dict, new: dict) -> bool:
@@ -166,6 +178,7 @@ def cmd_run(args) -> int:
         log.info(f"geompm {__version__}: case '{scene.name}', {scene.dim}D, {scene.state.n} particles, "
                  f"h = {scene.grid.h:g} m, end time {scene.end_time:g} s, first dt {dt:.3g} s, "
                  f"~{mem / 2**20:.0f} MiB -> {run_dir}")
+        _viscous_warning(loaded, scene, log.warning)
     summary = None
     try:
         with _StopOnSignal(runner) as stopper:
@@ -289,6 +302,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", help="folder for the PNGs (default RUN_DIR/plots)")
     p.set_defaults(func=cmd_plot)
     study_parser(sub)
+    calibrate_parser(sub)
     p = sub.add_parser("plugins", help="list installed plugins")
     p.set_defaults(func=cmd_plugins)
     p = sub.add_parser("schema", help="print the case JSON Schema (or write it with -o)")

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal, Union
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 Vector = list[float]
 
@@ -30,9 +30,12 @@ class GridSpec(Strict):
     )
 
 
+CFL_LIMIT = 0.8  # an elastic block gains energy from cfl = 0.9 on (docs/stability.md)
+
+
 class TimeSpec(Strict):
     end: float = Field(gt=0, description="Simulated end time [s]")
-    cfl: float = Field(0.4, gt=0, le=1.0, description="Courant number: dt = cfl * h / max(c_p + |v_p|)")
+    cfl: float = Field(0.4, gt=0, description=f"Courant number: dt = cfl * h / max(c_p + |v_p|), at most {CFL_LIMIT}")
     dt_max: float | None = Field(None, gt=0, description="Upper bound on the time step [s]")
     dt: float | None = Field(
         None, gt=0, description="Fixed time step [s]; overrides the adaptive CFL step (use with care)"
@@ -40,6 +43,14 @@ class TimeSpec(Strict):
     dt_min: float = Field(
         1e-9, gt=0, description="The run stops (exit 3) if the stable time step falls below this [s]"
     )
+
+    @field_validator("cfl")
+    @classmethod
+    def _cfl_limit(cls, v):
+        if v > CFL_LIMIT:
+            raise ValueError(f"{v:g} is above the stable limit {CFL_LIMIT}: an elastic body gains energy from 0.9 "
+                             f"on (docs/stability.md); use 0.4 (the default) or at most {CFL_LIMIT}")
+        return v
 
 
 class RunSpec(Strict):
