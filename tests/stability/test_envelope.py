@@ -15,7 +15,7 @@ from geompm.api import scene_from_dict
 from geompm.cli import main
 from geompm.errors import CaseError
 
-from .harness import column, merge, run
+from .harness import column, run
 
 ELASTIC_DROP = {  # an elastic block dropped 4 cm onto the floor: it bounces, and nothing dissipates energy
     "materials.soil": {"model": "linear_elastic", "density": 2650.0, "youngs_modulus": 1e6, "poisson_ratio": 0.3},
