@@ -44,8 +44,8 @@ def add_parser(sub) -> None:
     p.add_argument("soil_cases", nargs="+", metavar="SOIL_CASE", help="soil (e.g. Drucker-Prager) cases, one per h")
     p.add_argument("--fluid", required=True, help="the fluid case; its grid.cell_size is set to each soil case's")
     p.add_argument("--param", default="materials.soil.from_bingham.viscosity", help="the fluid case key to fit")
-    p.add_argument("--bounds", nargs=2, type=float, default=[0.05, 3.0], metavar=("LO", "HI"),
-                   help="search interval of the parameter (default 0.05 3.0)")
+    p.add_argument("--bounds", nargs="+", type=float, default=[0.05, 3.0], metavar="LO HI",
+                   help="search interval of the parameter (default 0.05 3.0), or one LO HI pair per soil case")
     p.add_argument("--points", type=int, default=4, help="evaluations per round, run together (default 4)")
     p.add_argument("--rounds", type=int, default=3, help="rounds of narrowing (default 3)")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="override for every run")
@@ -62,9 +62,17 @@ def _has_normalised_series(raw: dict) -> bool:
 
 def _check(args) -> tuple[list, dict]:
     problems = []
-    lo, hi = args.bounds
-    if not 0 < lo < hi:
-        problems.append(("--bounds", f"need 0 < LO < HI, got {lo:g} {hi:g}"))
+    b = args.bounds
+    if len(b) not in (2, 2 * len(args.soil_cases)):
+        problems.append(("--bounds", f"give LO HI, or one LO HI pair per soil case ({2 * len(args.soil_cases)} "
+                                     f"numbers); got {len(b)}"))
+        b = [1.0, 2.0]
+    pairs = [b[i:i + 2] for i in range(0, len(b), 2)]
+    args.bound_pairs = pairs * len(args.soil_cases) if len(pairs) == 1 else pairs
+    for lo, hi in pairs:
+        if not 0 < lo < hi:
+            problems.append(("--bounds", f"need 0 < LO < HI, got {lo:g} {hi:g}"))
+    lo = pairs[0][0]
     if args.points < 2 or args.rounds < 1:
         problems.append(("--points/--rounds", "need at least 2 points per round and 1 round"))
     soils = []
@@ -159,7 +167,7 @@ class _Runs:
 
 def cmd_calibrate(args) -> int:
     soils, fluid_raw = _check(args)
-    lo, hi = args.bounds
+    bounds = {h: pair for (_, _, h), pair in zip(soils, args.bound_pairs)}
     out = Path(args.out or Path("calibrations") / fluid_raw.get("name", "fluid"))
     out.mkdir(parents=True, exist_ok=True)
     folders = {h: out / f"h{h:g}" for _, _, h in soils}
@@ -181,7 +189,7 @@ def cmd_calibrate(args) -> int:
         fluid_base = _raw_of(args.fluid)
         end = {h: float(raw["time"]["end"]) for _, raw, h in soils}
         for rnd in range(args.rounds):
-            batch = {h: next_points(tried[h], lo, hi, args.points) for h in tried}
+            batch = {h: next_points(tried[h], *bounds[h], args.points) for h in tried}
             for h, values in batch.items():
                 for v in values:
                     sets = _fluid_sets(args, h, v, end[h])
@@ -233,7 +241,7 @@ def _report(args, out, soils, tried, evaluations, refs, folders) -> int:
     write_csv(out / "evaluations.csv", evaluations)
     done = [r for r in rows if r["status"] == "finished"]
     fit = linear_fit([r["cell_size"] for r in done], [r["value"] for r in done]) if len(done) >= 3 else None
-    summary = {"param": args.param, "bounds": args.bounds, "points": args.points, "rounds": args.rounds,
+    summary = {"param": args.param, "bounds": {str(h): bp for (_, _, h), bp in zip(soils, args.bound_pairs)}, "points": args.points, "rounds": args.rounds,
                "results": rows, "fit": dict(zip(("intercept", "slope", "r_squared"), fit)) if fit else None}
     atomic_write_text(out / "calibration.json", json.dumps(summary, indent=2) + "\n")
     name = args.param.split(".")[-1]

@@ -71,9 +71,9 @@ def merge(case: dict, over: dict) -> dict:
             node = node[int(p)] if isinstance(node, list) else node[p]
         last = parts[-1]
         if isinstance(node, list):
-            node[int(last)] = value
+            node[int(last)] = copy.deepcopy(value)
         else:
-            node[last] = value
+            node[last] = copy.deepcopy(value)
     return case
 
 
