@@ -111,17 +111,21 @@ def test_refinement_study_end_to_end_and_resume(tmp_path, capsys):
 
 
 def test_failed_variant_is_reported_and_retried_with_resume(tmp_path, capsys):
-    """A variant at a fixed dt 25x the Courant limit blows up: it is reported as failed (exit 3) in
-    study.csv while the stable one finishes; --resume then runs only the failed variant again."""
-    code, out = _study(tmp_path, "--vary", "time.dt=0.0002,0.02", "--set", "grid.cell_size=0.04",
-                       "--set", "time.end=0.1")
+    """A variant at a fixed dt 5x the Courant limit (h / c_p = 0.04 / 20.6 = 1.9 ms) blows up: it is
+    reported as failed (exit 3) in study.csv while the stable one finishes; --resume then runs only the
+    failed variant again.  An invalid variant (output interval below its fixed dt) is refused first."""
+    code, _ = _study(tmp_path, "--vary", "time.dt=0.0005,0.01", "--set", "grid.cell_size=0.04",
+                     "--set", "time.end=0.1", name="refused")
+    assert code == 2 and "variant v001" in capsys.readouterr().err and not (tmp_path / "refused").exists()
+    args = ("--vary", "time.dt=0.0005,0.01", "--set", "grid.cell_size=0.04", "--set", "time.end=0.1",
+            "--set", "outputs.0.interval=0.01")
+    code, out = _study(tmp_path, *args)
     assert code == 3
     rows = _rows(out / "study.csv")
     assert rows[0]["status"] == "finished"
     assert rows[1]["status"].startswith("failed (exit 3)") and rows[1]["runout"] == ""
     capsys.readouterr()
-    code, _ = _study(tmp_path, "--vary", "time.dt=0.0002,0.02", "--set", "grid.cell_size=0.04",
-                     "--set", "time.end=0.1", "--resume")
+    code, _ = _study(tmp_path, *args, "--resume")
     assert code == 3 and "1 of 2 variants already finished" in capsys.readouterr().out
 
 

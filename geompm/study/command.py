@@ -19,7 +19,7 @@ from pathlib import Path
 
 from ..errors import CaseError
 from ..fileio import atomic_write_text
-from ..schema.load import load_case, read_json
+from ..schema.load import apply_overrides, load_case, read_json
 from . import metrics as M
 from . import report
 from .execute import Pool, finished, run_variant, threads_per_run, variant_case
@@ -66,11 +66,14 @@ def _variant_label(v) -> str:
 
 
 def validate_all(case: str, variants, common: list[str]) -> None:
-    """Every variant through the case checks; one CaseError listing all problems, before any run."""
+    """Every variant through all the case checks (schema, plugins, assembly); one CaseError listing all
+    problems, before any run."""
+    from ..assemble import assemble
+
     problems = []
     for v in variants:
         try:
-            load_case(case, common + v.sets)
+            assemble(load_case(case, common + v.sets))
         except CaseError as exc:
             problems += [(f"{_variant_label(v)}: {path}", msg) for path, msg in exc.problems]
     if problems:
@@ -162,7 +165,7 @@ def cmd_study(args) -> int:
         raise CaseError([("--samples", "must be at least 1")])
     vary, samples = parse_vary(args.vary), parse_sample(args.sample)
     variants = build_plan(vary, samples, args.samples, args.seed)
-    common = list(args.set) + ([] if args.keep_outputs else series_only(raw))
+    common = list(args.set) + ([] if args.keep_outputs else series_only(apply_overrides(raw, args.set)))
     validate_all(case, variants, common)
     reference = load_reference(args.reference, bool(vary))
     out = Path(args.out or Path("studies") / raw.get("name", Path(case).stem))

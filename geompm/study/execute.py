@@ -12,6 +12,7 @@ need geompm installed and the case and study folders on a shared file system.
 from __future__ import annotations
 
 import json
+import logging
 import os
 import subprocess
 import sys
@@ -71,8 +72,9 @@ class Pool:
             self.workers = max(1, len(self.client.scheduler_info().get("workers", {})))
         else:
             self.workers = workers or cores
+            logging.getLogger("distributed").setLevel(logging.WARNING)
             self.cluster = LocalCluster(n_workers=1, threads_per_worker=self.workers, processes=False,
-                                        dashboard_address=None)
+                                        dashboard_address=":0", silence_logs=logging.WARNING)
             self.client = Client(self.cluster)
 
     def submit(self, fn, *args, name: str):
