@@ -208,7 +208,7 @@ def cmd_calibrate(args) -> int:
                 print(f"round {rnd + 1}/{args.rounds}: " + "; ".join(
                     f"h = {h:g}: best {args.param.split('.')[-1]} = {bracket(t)[0]:.4g} (J = {t[bracket(t)[0]]:.4g})"
                     for h, t in tried.items() if any(math.isfinite(x) for x in t.values())))
-    return _report(args, out, soils, tried, evaluations, refs, folders)
+    return _report(args, out, soils, tried, evaluations, refs, folders, bounds)
 
 
 def _raw_of(path) -> dict:
@@ -226,7 +226,7 @@ def _eval_dir(folder: Path, value: float) -> Path:
     return folder / f"fluid_{value:.6g}"
 
 
-def _report(args, out, soils, tried, evaluations, refs, folders) -> int:
+def _report(args, out, soils, tried, evaluations, refs, folders, bounds) -> int:
     rows = []
     for _, _, h in sorted(soils, key=lambda s: -s[2]):
         if not any(math.isfinite(j) for j in tried[h].values()):
@@ -234,22 +234,26 @@ def _report(args, out, soils, tried, evaluations, refs, folders) -> int:
             continue
         best, a, b = bracket(tried[h])
         ev = next(e for e in evaluations if e["cell_size"] == h and e["value"] == best)
+        lo, hi = bounds[h]
+        at_bound = abs(best / lo - 1) < 1e-9 or abs(best / hi - 1) < 1e-9
         rows.append({"cell_size": h, "value": best, "bracket_low": a, "bracket_high": b, "objective": ev["objective"],
                      "X_star_error": ev["X_star_error"], "K_star_error": ev["K_star_error"],
-                     "evaluations": len(tried[h]), "source_value": SOURCE_MU_INF.get(h), "status": "finished"})
+                     "evaluations": len(tried[h]), "source_value": SOURCE_MU_INF.get(h),
+                     "status": "at a bound: widen --bounds" if at_bound else "finished"})
     write_csv(out / "calibration.csv", rows)
     write_csv(out / "evaluations.csv", evaluations)
-    done = [r for r in rows if r["status"] == "finished"]
+    done = [r for r in rows if r.get("value") is not None]
     fit = linear_fit([r["cell_size"] for r in done], [r["value"] for r in done]) if len(done) >= 3 else None
     summary = {"param": args.param, "bounds": {str(h): bp for (_, _, h), bp in zip(soils, args.bound_pairs)}, "points": args.points, "rounds": args.rounds,
                "results": rows, "fit": dict(zip(("intercept", "slope", "r_squared"), fit)) if fit else None}
     atomic_write_text(out / "calibration.json", json.dumps(summary, indent=2) + "\n")
     name = args.param.split(".")[-1]
     for r in rows:
-        if r["status"] == "finished":
+        if r.get("value") is not None:
             print(f"h = {r['cell_size']:g} m: {name} = {r['value']:.4g} (bracket {r['bracket_low']:.4g} to "
                   f"{r['bracket_high']:.4g}), J = {r['objective']:.4f} (X* {r['X_star_error']:.4f}, "
-                  f"K* {r['K_star_error']:.4f}), {r['evaluations']} runs")
+                  f"K* {r['K_star_error']:.4f}), {r['evaluations']} runs"
+                  + ("" if r["status"] == "finished" else f"; WARNING: {r['status']}"))
         else:
             print(f"h = {r['cell_size']:g} m: {r['status']}")
     if fit:
