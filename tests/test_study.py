@@ -162,3 +162,19 @@ def test_bad_study_arguments_are_refused_before_any_run(tmp_path, capsys, args, 
     assert code == 2
     assert needle in capsys.readouterr().err
     assert not out.exists()
+
+
+def test_study_runs_on_an_existing_dask_scheduler(tmp_path):
+    """--scheduler tcp://HOST:PORT sends the variants to a cluster started elsewhere (here a separate
+    LocalCluster with 2 worker threads): both variants finish there and h = 0.04 m has 50 particles."""
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, protocol="tcp",
+                      dashboard_address=":0") as cluster:
+        assert cluster.scheduler_address.startswith("tcp://")
+        code, out = _study(tmp_path, "--vary", "grid.cell_size=0.04,0.02", "--set", "time.end=0.1",
+                           "--scheduler", cluster.scheduler_address)
+    assert code == 0
+    rows = _rows(out / "study.csv")
+    assert [r["status"] for r in rows] == ["finished", "finished"]
+    assert [int(r["particles"]) for r in rows] == [50, 200]
