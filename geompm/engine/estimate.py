@@ -49,14 +49,13 @@ def _duration(seconds: float) -> str:
 
 
 def step_report(scene) -> StepReport:
-    st = scene.state
-    c = max((mat.wave_speed(st.p_rho[s:e]) for mat, (s, e) in zip(scene.materials, st.blocks) if e > s), default=0.0)
-    h, d = scene.grid.h, scene.dim
-    dt_wave = scene.cfl * h / c if c > 0 else float("inf")
-    nus = [(m.kinematic_viscosity(), name) for m, name in zip(scene.materials, scene.material_names)]
-    nu, name = max(nus, default=(0.0, None))
-    dt_visc = h * h / (2 * d * nu) if nu > 0 else float("inf")
-    mu = nu * scene.materials[scene.material_names.index(name)].density if name is not None else 0.0
+    from .timestep import viscous_limit, wave_speed
+
+    c = wave_speed(scene, scene.state)
+    dt_wave = scene.cfl * scene.grid.h / c if c > 0 else float("inf")
+    dt_visc = viscous_limit(scene)
+    mat, name = max(zip(scene.materials, scene.material_names), key=lambda m: m[0].kinematic_viscosity())
+    mu = mat.kinematic_viscosity() * mat.density
     dt = scene.dt_fixed or min(dt_wave, dt_visc)
     return StepReport(dt_wave, dt_visc, name, mu, scene.end_time / dt)
 

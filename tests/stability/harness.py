@@ -11,13 +11,14 @@ sink microns behind a wall).
 
 from __future__ import annotations
 
-import copy
+import json
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from geompm.api import scene_from_dict
+from geompm.schema.load import apply_overrides
 from geompm.engine.health import HealthCheck, health_sums, outside_grid
 from geompm.engine.scheduler import Simulation
 
@@ -62,19 +63,8 @@ def column(**over) -> dict:
 
 
 def merge(case: dict, over: dict) -> dict:
-    """Dotted keys in ``over`` replace values in a copy of ``case``."""
-    case = copy.deepcopy(case)
-    for key, value in over.items():
-        node = case
-        parts = key.split(".")
-        for p in parts[:-1]:
-            node = node[int(p)] if isinstance(node, list) else node[p]
-        last = parts[-1]
-        if isinstance(node, list):
-            node[int(last)] = copy.deepcopy(value)
-        else:
-            node[last] = copy.deepcopy(value)
-    return case
+    """A copy of ``case`` with the dotted keys of ``over`` replaced (as ``--set`` does)."""
+    return apply_overrides(case, [f"{k}={json.dumps(v)}" for k, v in over.items()])
 
 
 def run(case: dict, max_steps: int = 20000, cfl: float | None = None) -> Outcome:
