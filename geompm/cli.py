@@ -1,4 +1,4 @@
-"""Command line: ``geompm run | validate | info | plot | study | calibrate | plugins | schema``.
+"""Command line: ``geompm run | validate | info | plot | study | calibrate | bench | plugins | schema``.
 
 Exit codes: 0 success, 2 invalid case or arguments (nothing computed),
 3 the simulation became unphysical, 130 interrupted.
@@ -17,6 +17,7 @@ from pathlib import Path
 from . import __version__, registry
 from .errors import CaseError, SimulationError
 from .fileio import atomic_write_text
+from .bench.command import add_parser as bench_parser
 from .study.calibrate import add_parser as calibrate_parser
 from .study.command import add_parser as study_parser
 
@@ -303,6 +304,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_plot)
     study_parser(sub)
     calibrate_parser(sub)
+    bench_parser(sub)
     p = sub.add_parser("plugins", help="list installed plugins")
     p.set_defaults(func=cmd_plugins)
     p = sub.add_parser("schema", help="print the case JSON Schema (or write it with -o)")

@@ -1,7 +1,7 @@
 """Memory: what a case will need, and what the machine has.
 
 Particle state per particle (state.py): p_x, p_x0, p_v (3 d), p_C (d^2),
-p_F and p_L (18), p_stress (6), mass, vol0, vol, rho (4) in float64, and two
+p_L (9), p_stress (6), mass, vol0, vol, rho (4) in float64, and two
 int32 ids; material state variables come on top (a few per particle).  Grid
 per active node: one private (mass, momentum d, force d) copy per P2G chunk
 plus the shared mass, momentum, force, velocity and old velocity.
@@ -16,7 +16,7 @@ import numpy as np
 
 
 def particle_bytes(dim: int, state_vars: int = 4) -> int:
-    return 8 * (3 * dim + dim * dim + 18 + 6 + 4 + state_vars) + 8
+    return 8 * (3 * dim + dim * dim + 9 + 6 + 4 + state_vars) + 8
 
 
 def grid_bytes(nodes: int, dim: int, chunks: int | None = None) -> int:

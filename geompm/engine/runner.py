@@ -141,7 +141,8 @@ class Runner:
             return True
         return self.ckpt_wall is not None and wallclock.perf_counter() - self.last_ckpt_wall >= self.ckpt_wall
 
-    def _step(self, end):
+    def advance(self, end):
+        """One step of the loop: time-step control, the step, health and domain checks (no output)."""
         sim, writers = self.sim, self.writers
         dt = sim.stable_dt()
         self.health.before_step(sim, dt)
@@ -162,12 +163,17 @@ class Runner:
             self.warn_once("deleted", f"{removed} particles left the grid at t = {sim.time:.6g} s and were deleted "
                                       "(run.on_leave_domain = delete); later deletions are counted in the summary")
 
+    def start(self) -> None:
+        """Set up the health check and the clocks; ``run`` calls it, ``geompm bench`` calls it before
+        stepping with ``advance``."""
+        self.t0 = self.last_ckpt_wall = wallclock.perf_counter()
+        self.health = HealthCheck(self.sim.scene)
+        self.first_dt = self.sim.stable_dt()
+
     def run(self, until: float | None = None) -> RunSummary:
         sim = self.sim
         end = sim.scene.end_time if until is None else until
-        self.t0 = self.last_ckpt_wall = wallclock.perf_counter()
-        self.health = HealthCheck(sim.scene)
-        self.first_dt = sim.stable_dt()
+        self.start()
         for k, w in enumerate(self.writers):
             if self.resumed:
                 w.resume(self.run_dir, sim, self.writer_states[k])
@@ -182,7 +188,7 @@ class Runner:
                     self.warn_once("empty", f"every particle has left the grid by t = {sim.time:.6g} s: "
                                             "the run ends here")
                     break
-                self._step(end)
+                self.advance(end)
                 self._emit()
                 if sim.step_count % 20 == 0:
                     bar.update(sim, sim.step_count - step0, self.t0)

@@ -20,10 +20,15 @@ import numpy as np
 
 from ..kernels.grid_update import grid_update, momentum_to_velocity
 from ..kernels.reduce import kinetic_energy, max_coordinate
-from ..kernels.transfer import g2p, p2g
+from ..kernels.transfer2d import g2p_2d, p2g_2d
+from ..kernels.transfer3d import g2p_3d, p2g_3d
 from ..stages import GridStage, ParticleStage
 from .grid import GridBuffers
 from .timestep import stable_dt
+
+#: the transfer kernels of each dimension: 2D cases run 2D kernels (kernels/transfer.py is the
+#: dimension-generic reference they are tested against)
+TRANSFERS = {2: (p2g_2d, g2p_2d), 3: (p2g_3d, g2p_3d)}
 
 
 class Simulation:
@@ -31,6 +36,7 @@ class Simulation:
         self.scene = scene
         self.state = scene.state
         self.buffers = GridBuffers(scene.grid, nchunks)
+        self.p2g, self.g2p = TRANSFERS[scene.dim]
         # periodic folding first (it merges ghost nodes), then damping; boundaries and obstacles
         # must have the last word on grid velocities
         periodic = [b for b in scene.boundaries if getattr(b, "merges_nodes", False)]
@@ -49,13 +55,13 @@ class Simulation:
 
     def _g2p(self, view, dt, set_velocity, move, gradient):
         st, sc, g = self.state, self.scene, self.scene.grid
-        g2p(st.p_x, st.p_v, st.p_C, st.p_L, st.p_F, st.p_vol, st.p_vol0, st.p_rho, st.p_mass,
+        self.g2p(st.p_x, st.p_v, st.p_C, st.p_L, st.p_vol, st.p_rho, st.p_mass,
             view.g_vel, view.g_vel_old, g.origin, g.h, g.kind, view.lo, view.nloc, dt,
             sc.transfer_mode, sc.flip_ratio, sc.apic_dinv, set_velocity, move, gradient)
 
     def _p2g(self, view, with_force):
         st, g, b = self.state, self.scene.grid, self.buffers
-        p2g(st.p_x, st.p_v, st.p_C, st.p_mass, st.p_vol, st.p_stress, g.origin, g.h, g.kind,
+        self.p2g(st.p_x, st.p_v, st.p_C, st.p_mass, st.p_vol, st.p_stress, g.origin, g.h, g.kind,
             view.lo, view.nloc, b.c_mass, b.c_mom, b.c_force, with_force,
             view.g_mass, view.g_mom, view.g_force)
 

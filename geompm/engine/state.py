@@ -6,7 +6,8 @@ n particles, d dimensions; shapes as below, SI units:
     p_v (n, d) velocity [m/s]        p_C (n, d, d) APIC affine matrix [1/s]
     p_mass (n,) [kg]                 p_vol0, p_vol (n,) volume [m^d; m^2 per m in 2D]
     p_rho (n,) density [kg/m3]       p_stress (n, 6) Cauchy stress, Voigt (voigt.py) [Pa]
-    p_F (n, 3, 3) deformation gradient   p_L (n, 3, 3) velocity gradient [1/s]
+    p_L (n, 3, 3) velocity gradient [1/s]  (the deformation gradient is not stored:
+        the volume is advanced by det(I + dt L) each step, kernels/volume.py)
     p_material (n,) int32            p_body (n,) int32
 
 Particles are sorted by material: material k owns the contiguous block
@@ -34,7 +35,6 @@ class ParticleState:
     p_C: np.ndarray = None
     p_vol: np.ndarray = None
     p_rho: np.ndarray = None
-    p_F: np.ndarray = None
     p_L: np.ndarray = None
     blocks: list = field(default_factory=list)
     p_state: list = field(default_factory=list)
@@ -49,9 +49,6 @@ class ParticleState:
             self.p_vol = self.p_vol0.copy()
         if self.p_rho is None:
             self.p_rho = self.p_mass / self.p_vol
-        if self.p_F is None:
-            self.p_F = np.zeros((n, 3, 3))
-            self.p_F[:, 0, 0] = self.p_F[:, 1, 1] = self.p_F[:, 2, 2] = 1.0
         if self.p_L is None:
             self.p_L = np.zeros((n, 3, 3))
 

@@ -5,7 +5,6 @@ Arrays (n particles, d dimensions, nn nodes of the active grid window):
     p_C (n, d, d) APIC affine velocity matrix [1/s]
     p_mass (n,) [kg]  p_vol (n,) [m^d]  p_stress (n, 6) Voigt, see voigt.py
     p_L (n, 3, 3) velocity gradient [1/s] (plane strain: z row/column zero)
-    p_F (n, 3, 3) deformation gradient [-]
     g_mass (nn,) [kg]  g_mom (nn, d) [kg m/s]  g_force (nn, d) [N]
     g_vel, g_vel_old (nn, d) [m/s]
 
@@ -23,6 +22,7 @@ import numpy as np
 from numba import njit, prange
 
 from .shape import axis_weights, support
+from .volume import update_volume
 from .voigt import VOIGT_INDEX
 
 
@@ -126,13 +126,13 @@ def p2g(p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc,
 
 
 @njit(parallel=True, fastmath=True, cache=True)
-def g2p(p_x, p_v, p_C, p_L, p_F, p_vol, p_vol0, p_rho, p_mass, g_vel, g_vel_old,
+def g2p(p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,
         origin, h, kind, lo, nloc, dt, mode, flip_ratio, apic_dinv, set_velocity, move, do_gradient):
     """Gather grid velocities to particles.
 
     mode 0 PIC, 1 APIC, 2 FLIP blend.  With ``set_velocity``: v_p and C_p;
     with ``move``: x_p += dt v_pic.  With ``do_gradient``: L_p = sum v_i (x) grad w, then
-    F <- (I + dt L) F, V = V0 det F, rho = m / V.  APIC uses
+    V <- V det(I + dt L) (= V0 det F, F <- (I + dt L) F, without storing F), rho = m / V.  APIC uses
     C_p = sum w v_i (x_i - x_p)^T D^-1 with D^-1 = apic_dinv (B-splines), or
     C_p = L_p when apic_dinv == 0 (linear basis).
     """
@@ -154,7 +154,6 @@ def g2p(p_x, p_v, p_C, p_L, p_F, p_vol, p_vol0, p_rho, p_mass, g_vel, g_vel_old,
         dv = np.empty(d)
         B = np.empty((d, d))
         L = np.zeros((3, 3))
-        Fn = np.empty((3, 3))
         for p in range(c * n // nchunks, (c + 1) * n // nchunks):
             for a in range(d):
                 base[a] = axis_weights((p_x[p, a] - origin[a]) * inv_h, kind, inv_h, w[a], dw[a])
@@ -194,20 +193,4 @@ def g2p(p_x, p_v, p_C, p_L, p_F, p_vol, p_vol0, p_rho, p_mass, g_vel, g_vel_old,
                         else:
                             p_C[p, a, b] = 0.0
             if do_gradient:
-                for a in range(3):
-                    for b in range(3):
-                        p_L[p, a, b] = L[a, b]
-                for a in range(3):
-                    for b in range(3):
-                        f = p_F[p, a, b]
-                        for e in range(3):
-                            f += dt * L[a, e] * p_F[p, e, b]
-                        Fn[a, b] = f
-                for a in range(3):
-                    for b in range(3):
-                        p_F[p, a, b] = Fn[a, b]
-                J = (Fn[0, 0] * (Fn[1, 1] * Fn[2, 2] - Fn[1, 2] * Fn[2, 1])
-                     - Fn[0, 1] * (Fn[1, 0] * Fn[2, 2] - Fn[1, 2] * Fn[2, 0])
-                     + Fn[0, 2] * (Fn[1, 0] * Fn[2, 1] - Fn[1, 1] * Fn[2, 0]))
-                p_vol[p] = p_vol0[p] * J
-                p_rho[p] = p_mass[p] / p_vol[p]
+                update_volume(p, p_L, p_vol, p_rho, p_mass, L, dt)

@@ -1,0 +1,161 @@
+"""``geompm bench``: particle-steps per second, memory and start-up of standard scenes.
+
+Scenes are listed in ``benchmarks/scenes.json`` (name -> case, timed steps,
+optional ``variants`` of ``--set`` overrides or other cases, optional
+``check``).  Each measurement runs in its own process
+(``python -m geompm.bench.worker``) after a warm-up step; compilation is
+excluded from the timing and reported as start-up seconds.  With
+``cold_start`` a scene is also started once with an empty numba cache
+(a temporary ``NUMBA_CACHE_DIR``) and once more from that cache: the cold and
+warm start-up of docs/performance.md.
+
+Checks printed under the table:
+- ``spread``: time per particle-step from the smallest to the largest variant
+  (linear cost: within 25 %);
+- ``domain``: each variant's time against the first (grid work only where the
+  particles are: within 20 %).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from ..errors import CaseError
+
+SPREAD_LIMIT = 0.25
+DOMAIN_LIMIT = 0.20
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("bench", help="benchmark standard scenes: particle-steps/s, memory, start-up",
+                       description=__doc__.split("\n\n")[0])
+    p.add_argument("--scene", action="append", metavar="NAME", help="a scene of scenes.json (repeatable; default all)")
+    p.add_argument("--dir", help="folder with scenes.json and the cases (default: ./benchmarks, else the repository's)")
+    p.add_argument("--steps", type=int, help="timed steps for every scene, instead of each scene's own")
+    p.add_argument("--json", action="store_true", help="one JSON object per measurement on its own line")
+    p.add_argument("--no-cold", action="store_true", help="skip the cold/warm start-up measurements")
+    p.add_argument("--list", action="store_true", help="list the scenes and exit")
+    p.set_defaults(func=cmd_bench)
+
+
+def bench_dir(arg: str | None) -> Path:
+    candidates = [Path(arg)] if arg else [Path("benchmarks"), Path(__file__).resolve().parents[2] / "benchmarks"]
+    for d in candidates:
+        if (d / "scenes.json").is_file():
+            return d
+    raise CaseError([("--dir", f"no scenes.json in {', '.join(str(c) for c in candidates)}; "
+                               "run from the repository root or pass --dir")])
+
+
+def measurements(name: str, spec: dict, folder: Path, steps: int | None) -> list[tuple[str, str, list[str], int]]:
+    """(label, case path, --set list, steps) for each measurement of a scene."""
+    n = steps or int(spec["steps"])
+    variants = spec.get("variants")
+    if not variants:
+        return [(name, str(folder / spec["case"]), [], n)]
+    out = []
+    for label, v in variants.items():
+        if isinstance(v, dict):
+            out.append((f"{name}:{label}", str(folder / v.get("case", spec.get("case"))), list(v.get("set", [])), n))
+        else:
+            out.append((f"{name}:{label}", str(folder / spec["case"]), list(v), n))
+    return out
+
+
+def run_worker(case: str, sets: list[str], steps: int, env_extra: dict | None = None) -> dict:
+    """Run one measurement in a fresh process; the result, or {"error": ...}."""
+    cmd = [sys.executable, "-m", "geompm.bench.worker", case, "--steps", str(steps)]
+    for s in sets:
+        cmd += ["--set", s]
+    env = dict(os.environ, GEOMPM_BENCH_SPAWN=repr(time.time()), **(env_extra or {}))
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
+    if proc.returncode:
+        return {"error": (proc.stderr or proc.stdout).strip()[-800:]}
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def cold_and_warm(case: str, sets: list[str]) -> tuple[float, float]:
+    """Start-up seconds with an empty numba cache, then from the cache that run filled (2 timed steps)."""
+    with tempfile.TemporaryDirectory(prefix="geompm-cold-") as cache:
+        env = {"NUMBA_CACHE_DIR": cache}
+        cold = run_worker(case, sets, 2, env)
+        warm = run_worker(case, sets, 2, env)
+    if "error" in cold or "error" in warm:
+        raise RuntimeError(cold.get("error") or warm.get("error"))
+    return cold["startup_s"], warm["startup_s"]
+
+
+HEADER = (f"{'scene':<18}{'particles':>10}{'nodes':>9}{'steps':>6}{'wall s':>8}{'p-steps/s':>11}"
+          f"{'ns/p-step':>10}{'RSS MiB':>9}{'B/particle':>11}{'thr':>4}{'start s':>8}")
+
+
+def row(label: str, r: dict) -> str:
+    if "error" in r:
+        return f"{label:<18} failed: {r['error'].splitlines()[-1] if r['error'] else ''}"
+    start = f"{r['startup_s']:8.2f}"
+    return (f"{label:<18}{r['particles']:>10}{r['active_nodes']:>9}{r['steps']:>6}{r['wall_s']:>8.2f}"
+            f"{r['particle_steps_per_s']:>11.3g}{r['ns_per_particle_step']:>10.1f}"
+            f"{r['peak_rss_bytes'] / 2**20:>9.0f}{r['bytes_per_particle']:>11.0f}{r['threads']:>4}{start}")
+
+
+def check_lines(name: str, spec: dict, results: list[tuple[str, dict]]) -> list[str]:
+    ok = [(label, r) for label, r in results if "error" not in r]
+    if len(ok) < 2 or not spec.get("check"):
+        return []
+    if spec["check"] == "spread":
+        small = min(ok, key=lambda x: x[1]["particles"])
+        large = max(ok, key=lambda x: x[1]["particles"])
+        ratio = large[1]["ns_per_particle_step"] / small[1]["ns_per_particle_step"]
+        verdict = "within" if abs(ratio - 1) <= SPREAD_LIMIT else "OUTSIDE"
+        return [f"{name}: ns per particle-step {large[0]} / {small[0]} = {ratio:.3f} "
+                f"({verdict} the {SPREAD_LIMIT:.0%} target)"]
+    base_label, base = ok[0]
+    lines = []
+    for label, r in ok[1:]:
+        ratio = r["wall_s"] / base["wall_s"]
+        vol = r["grid_cells"] / base["grid_cells"]
+        verdict = "within" if ratio - 1 <= DOMAIN_LIMIT else "OUTSIDE"
+        lines.append(f"{name}: {label} ({vol:.3g}x the grid cells of {base_label}) takes {ratio:.3f}x its time "
+                     f"({verdict} the {DOMAIN_LIMIT:.0%} target)")
+    return lines
+
+
+def cmd_bench(args) -> int:
+    folder = bench_dir(args.dir)
+    scenes = json.loads((folder / "scenes.json").read_text())
+    if args.list:
+        for name, spec in scenes.items():
+            print(f"{name}: {len(measurements(name, spec, folder, args.steps))} measurement(s)")
+        return 0
+    names = args.scene or list(scenes)
+    unknown = [n for n in names if n not in scenes]
+    if unknown:
+        raise CaseError([("--scene", f"unknown scene {', '.join(unknown)}; choose from {', '.join(scenes)}")])
+    if not args.json:
+        print(HEADER)
+    failed = False
+    notes = []
+    for name in names:
+        spec = scenes[name]
+        results = []
+        for label, case, sets, steps in measurements(name, spec, folder, args.steps):
+            r = run_worker(case, sets, steps)
+            r["scene"] = label
+            if spec.get("cold_start") and not args.no_cold and "error" not in r:
+                r["cold_start_s"], r["warm_start_s"] = cold_and_warm(case, sets)
+                notes.append(f"{label}: cold start {r['cold_start_s']:.1f} s (empty numba cache), "
+                             f"warm start {r['warm_start_s']:.2f} s (from the cache)")
+            failed |= "error" in r
+            results.append((label, r))
+            print(json.dumps(r) if args.json else row(label, r), flush=True)
+        notes += check_lines(name, spec, results)
+    if notes and not args.json:
+        print()
+        print("\n".join(notes))
+    return 3 if failed else 0
