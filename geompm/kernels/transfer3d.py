@@ -72,22 +72,27 @@ def p2g_3d(p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc,
                     wij = wi * w[1, j]
                     gxij = dwi * w[1, j]
                     gyij = wi * dw[1, j]
-                    qj0, qj1, qj2 = qi0 + j * ay0, qi1 + j * ay1, qi2 + j * ay2
+                    # node (i, j, k): mass mij wk, momentum Q wk + R k wk, force Fa wk + Fb dwk
+                    mij = wij * m
+                    Q0, Q1, Q2 = wij * (qi0 + j * ay0), wij * (qi1 + j * ay1), wij * (qi2 + j * ay2)
+                    R0, R1, R2 = wij * az0, wij * az1, wij * az2
+                    Fa0 = sxx * gxij + sxy * gyij
+                    Fa1 = sxy * gxij + syy * gyij
+                    Fa2 = sxz * gxij + syz * gyij
+                    Fb0, Fb1, Fb2 = sxz * wij, syz * wij, szz * wij
                     idx = base + i * sx + j * sy
                     for k in range(S):
                         wk = w[2, k]
-                        wt = wij * wk
-                        cm[idx + k] += wt * m
-                        cp[idx + k, 0] += wt * (qj0 + k * az0)
-                        cp[idx + k, 1] += wt * (qj1 + k * az1)
-                        cp[idx + k, 2] += wt * (qj2 + k * az2)
+                        kwk = k * wk
+                        cm[idx + k] += mij * wk
+                        cp[idx + k, 0] += Q0 * wk + R0 * kwk
+                        cp[idx + k, 1] += Q1 * wk + R1 * kwk
+                        cp[idx + k, 2] += Q2 * wk + R2 * kwk
                         if with_force:
-                            gx = gxij * wk
-                            gy = gyij * wk
-                            gz = wij * dw[2, k]
-                            cf[idx + k, 0] += sxx * gx + sxy * gy + sxz * gz
-                            cf[idx + k, 1] += sxy * gx + syy * gy + syz * gz
-                            cf[idx + k, 2] += sxz * gx + syz * gy + szz * gz
+                            dwk = dw[2, k]
+                            cf[idx + k, 0] += Fa0 * wk + Fb0 * dwk
+                            cf[idx + k, 1] += Fa1 * wk + Fb1 * dwk
+                            cf[idx + k, 2] += Fa2 * wk + Fb2 * dwk
     for i in prange(nn):
         m = 0.0
         for c in range(nchunks):
@@ -133,56 +138,83 @@ def g2p_3d(p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,
             # L = sum v_i (x) grad w, and B[:, a] = sum w v_i * (node step along axis a)
             l00 = l01 = l02 = l10 = l11 = l12 = l20 = l21 = l22 = 0.0
             b00 = b01 = b02 = b10 = b11 = b12 = b20 = b21 = b22 = 0.0
+            # separable sums: innermost over k, then j, then i (tensor-product weights)
             for i in range(S):
                 wi = w[0, i]
                 dwi = dw[0, i]
+                A0 = A1 = A2 = 0.0  # sum_jk wy wz v
+                Y0 = Y1 = Y2 = 0.0  # sum_jk dwy wz v
+                Z0 = Z1 = Z2 = 0.0  # sum_jk wy dwz v
+                J0 = J1 = J2 = 0.0  # sum_jk j wy wz v
+                K0 = K1 = K2 = 0.0  # sum_jk k wy wz v
+                E0 = E1 = E2 = 0.0  # sum_jk wy wz (v - v_old)
                 for j in range(S):
-                    wij = wi * w[1, j]
-                    gxij = dwi * w[1, j]
-                    gyij = wi * dw[1, j]
+                    wj = w[1, j]
+                    dwj = dw[1, j]
                     idx = base + i * sx + j * sy
-                    s0 = s1 = s2 = 0.0  # sum over k of w v
-                    t0 = t1 = t2 = 0.0  # sum over k of w v k
+                    S0 = S1 = S2 = 0.0  # sum_k wz v
+                    T0 = T1 = T2 = 0.0  # sum_k dwz v
+                    U0 = U1 = U2 = 0.0  # sum_k k wz v
                     for k in range(S):
                         wk = w[2, k]
-                        wt = wij * wk
+                        dwk = dw[2, k]
+                        kwk = k * wk
                         u0 = g_vel[idx + k, 0]
                         u1 = g_vel[idx + k, 1]
                         u2 = g_vel[idx + k, 2]
-                        s0 += wt * u0
-                        s1 += wt * u1
-                        s2 += wt * u2
-                        t0 += k * wt * u0
-                        t1 += k * wt * u1
-                        t2 += k * wt * u2
+                        S0 += wk * u0
+                        S1 += wk * u1
+                        S2 += wk * u2
+                        T0 += dwk * u0
+                        T1 += dwk * u1
+                        T2 += dwk * u2
+                        U0 += kwk * u0
+                        U1 += kwk * u1
+                        U2 += kwk * u2
                         if flip:
-                            d0 += wt * (u0 - g_vel_old[idx + k, 0])
-                            d1 += wt * (u1 - g_vel_old[idx + k, 1])
-                            d2 += wt * (u2 - g_vel_old[idx + k, 2])
-                        gx = gxij * wk
-                        gy = gyij * wk
-                        gz = wij * dw[2, k]
-                        l00 += u0 * gx
-                        l01 += u0 * gy
-                        l02 += u0 * gz
-                        l10 += u1 * gx
-                        l11 += u1 * gy
-                        l12 += u1 * gz
-                        l20 += u2 * gx
-                        l21 += u2 * gy
-                        l22 += u2 * gz
-                    v0 += s0
-                    v1 += s1
-                    v2 += s2
-                    b00 += i * s0
-                    b10 += i * s1
-                    b20 += i * s2
-                    b01 += j * s0
-                    b11 += j * s1
-                    b21 += j * s2
-                    b02 += t0
-                    b12 += t1
-                    b22 += t2
+                            wjk = wj * wk
+                            E0 += wjk * (u0 - g_vel_old[idx + k, 0])
+                            E1 += wjk * (u1 - g_vel_old[idx + k, 1])
+                            E2 += wjk * (u2 - g_vel_old[idx + k, 2])
+                    A0 += wj * S0
+                    A1 += wj * S1
+                    A2 += wj * S2
+                    Y0 += dwj * S0
+                    Y1 += dwj * S1
+                    Y2 += dwj * S2
+                    Z0 += wj * T0
+                    Z1 += wj * T1
+                    Z2 += wj * T2
+                    J0 += j * wj * S0
+                    J1 += j * wj * S1
+                    J2 += j * wj * S2
+                    K0 += wj * U0
+                    K1 += wj * U1
+                    K2 += wj * U2
+                v0 += wi * A0
+                v1 += wi * A1
+                v2 += wi * A2
+                d0 += wi * E0
+                d1 += wi * E1
+                d2 += wi * E2
+                l00 += dwi * A0
+                l10 += dwi * A1
+                l20 += dwi * A2
+                l01 += wi * Y0
+                l11 += wi * Y1
+                l21 += wi * Y2
+                l02 += wi * Z0
+                l12 += wi * Z1
+                l22 += wi * Z2
+                b00 += i * wi * A0
+                b10 += i * wi * A1
+                b20 += i * wi * A2
+                b01 += wi * J0
+                b11 += wi * J1
+                b21 += wi * J2
+                b02 += wi * K0
+                b12 += wi * K1
+                b22 += wi * K2
             L[0, 0], L[0, 1], L[0, 2] = l00, l01, l02
             L[1, 0], L[1, 1], L[1, 2] = l10, l11, l12
             L[2, 0], L[2, 1], L[2, 2] = l20, l21, l22
