@@ -44,7 +44,7 @@ def _tiny(tmp_path: Path) -> Path:
 
 def test_bench_json_is_self_consistent(tmp_path, capsys):
     folder = _tiny(tmp_path)
-    assert main(["bench", "--dir", str(folder), "--json", "--no-cold"]) == 0
+    assert main(["bench", "--dir", str(folder), "--json", "--no-cold", "--no-bandwidth"]) == 0
     rows = [json.loads(line) for line in capsys.readouterr().out.splitlines() if line.startswith("{")]
     assert [r["scene"] for r in rows] == ["tiny", "ladder:coarse", "ladder:fine", "domain:unit", "domain:big"]
     scene = scene_from_file(folder / "tiny.json")
@@ -123,3 +123,10 @@ def test_worker_runs_as_a_module(tmp_path):
                           "--set", "grid.cell_size=0.125"], capture_output=True, text=True, check=True).stdout
     r = json.loads(out)
     assert r["steps"] == 1 and r["particles"] == 6 * 9 * 6
+
+
+def test_triad_bandwidth_is_plausible():
+    """The STREAM triad moves 24 bytes per element: a figure between 0.5 GB/s and 2 TB/s on any machine."""
+    from geompm.bench.stream import triad_bandwidth
+
+    assert 5e8 < triad_bandwidth(n=2_000_000, repeats=2) < 2e12

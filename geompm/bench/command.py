@@ -41,6 +41,7 @@ def add_parser(sub) -> None:
     p.add_argument("--json", action="store_true", help="one JSON object per measurement on its own line")
     p.add_argument("--no-cold", action="store_true", help="skip the cold/warm start-up measurements")
     p.add_argument("--list", action="store_true", help="list the scenes and exit")
+    p.add_argument("--no-bandwidth", action="store_true", help="skip the memory-bandwidth (STREAM triad) measurement")
     p.set_defaults(func=cmd_bench)
 
 
@@ -155,7 +156,20 @@ def cmd_bench(args) -> int:
             results.append((label, r))
             print(json.dumps(r) if args.json else row(label, r), flush=True)
         notes += check_lines(name, spec, results)
+    if not args.no_bandwidth:
+        from .stream import triad_bandwidth
+
+        bw = triad_bandwidth()
+        notes.append(f"memory bandwidth (STREAM triad, {_threads()} threads): {bw / 1e9:.1f} GB/s")
+        if args.json:
+            print(json.dumps({"scene": "bandwidth", "triad_bytes_per_s": bw, "threads": _threads()}))
     if notes and not args.json:
         print()
         print("\n".join(notes))
     return 3 if failed else 0
+
+
+def _threads() -> int:
+    import numba
+
+    return numba.get_num_threads()
