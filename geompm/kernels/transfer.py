@@ -21,6 +21,7 @@ thread scheduling, and is deterministic for a fixed thread count.
 import numpy as np
 from numba import njit, prange
 
+from .chunks import sum_chunks, zero_chunk
 from .shape import axis_weights, support
 from .volume import update_volume
 from .voigt import VOIGT_INDEX
@@ -75,11 +76,7 @@ def p2g(p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc,
         cm = c_mass[c]
         cp = c_mom[c]
         cf = c_force[c]
-        for i in range(nn):
-            cm[i] = 0.0
-            for a in range(d):
-                cp[i, a] = 0.0
-                cf[i, a] = 0.0
+        zero_chunk(cm, cp, cf, nn)
         w = np.empty((d, 4))
         dw = np.empty((d, 4))
         base = np.empty(d, np.int64)
@@ -110,20 +107,7 @@ def p2g(p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc,
                         for b in range(d):
                             f += sig[a, b] * gw[b]
                         cf[idx, a] -= vol * f
-    for i in prange(nn):
-        m = 0.0
-        for c in range(nchunks):
-            m += c_mass[c, i]
-        g_mass[i] = m
-        for a in range(d):
-            mv = 0.0
-            f = 0.0
-            for c in range(nchunks):
-                mv += c_mom[c, i, a]
-                f += c_force[c, i, a]
-            g_mom[i, a] = mv
-            g_force[i, a] = f
-
+    sum_chunks(c_mass, c_mom, c_force, g_mass, g_mom, g_force)
 
 @njit(parallel=True, fastmath=True, cache=True)
 def g2p(p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,

@@ -7,6 +7,7 @@ to rounding as transfer.py.
 import numpy as np
 from numba import njit, prange
 
+from .chunks import sum_chunks, zero_chunk
 from .shape import axis_weights, support
 from .volume import update_volume
 
@@ -25,10 +26,7 @@ def p2g_2d(p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc,
         cm = c_mass[c]
         cp = c_mom[c]
         cf = c_force[c]
-        for i in range(nn):
-            cm[i] = 0.0
-            cp[i, 0] = cp[i, 1] = 0.0
-            cf[i, 0] = cf[i, 1] = 0.0
+        zero_chunk(cm, cp, cf, nn)
         w = np.empty((2, 4))
         dw = np.empty((2, 4))
         for p in range(c * n // nchunks, (c + 1) * n // nchunks):
@@ -61,19 +59,7 @@ def p2g_2d(p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc,
                         gy = wi * dw[1, j]
                         cf[idx + j, 0] += sxx * gx + sxy * gy
                         cf[idx + j, 1] += sxy * gx + syy * gy
-    for i in prange(nn):
-        m = 0.0
-        mv0 = mv1 = f0 = f1 = 0.0
-        for c in range(nchunks):
-            m += c_mass[c, i]
-            mv0 += c_mom[c, i, 0]
-            mv1 += c_mom[c, i, 1]
-            f0 += c_force[c, i, 0]
-            f1 += c_force[c, i, 1]
-        g_mass[i] = m
-        g_mom[i, 0], g_mom[i, 1] = mv0, mv1
-        g_force[i, 0], g_force[i, 1] = f0, f1
-
+    sum_chunks(c_mass, c_mom, c_force, g_mass, g_mom, g_force)
 
 @njit(parallel=True, fastmath=True, cache=True)
 def g2p_2d(p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,

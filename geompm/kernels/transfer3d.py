@@ -14,6 +14,7 @@ array shapes and the chunked, deterministic P2G.
 import numpy as np
 from numba import njit, prange
 
+from .chunks import sum_chunks, zero_chunk
 from .shape import axis_weights, support
 from .volume import update_volume
 
@@ -34,11 +35,7 @@ def p2g_3d(p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc,
         cm = c_mass[c]
         cp = c_mom[c]
         cf = c_force[c]
-        for i in range(nn):
-            cm[i] = 0.0
-            for a in range(3):
-                cp[i, a] = 0.0
-                cf[i, a] = 0.0
+        zero_chunk(cm, cp, cf, nn)
         w = np.empty((3, 4))
         dw = np.empty((3, 4))
         for p in range(c * n // nchunks, (c + 1) * n // nchunks):
@@ -93,20 +90,7 @@ def p2g_3d(p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc,
                             cf[idx + k, 0] += Fa0 * wk + Fb0 * dwk
                             cf[idx + k, 1] += Fa1 * wk + Fb1 * dwk
                             cf[idx + k, 2] += Fa2 * wk + Fb2 * dwk
-    for i in prange(nn):
-        m = 0.0
-        for c in range(nchunks):
-            m += c_mass[c, i]
-        g_mass[i] = m
-        for a in range(3):
-            mv = 0.0
-            f = 0.0
-            for c in range(nchunks):
-                mv += c_mom[c, i, a]
-                f += c_force[c, i, a]
-            g_mom[i, a] = mv
-            g_force[i, a] = f
-
+    sum_chunks(c_mass, c_mom, c_force, g_mass, g_mom, g_force)
 
 @njit(parallel=True, fastmath=True, cache=True)
 def g2p_3d(p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,
