@@ -74,6 +74,16 @@ def build(x0: np.ndarray, scheme: str, fp):
         rho = mass / vp
         return RHO0 * C_SOUND ** 2 / R_EOS * ((rho / RHO0) ** R_EOS - 1.0)
 
+    @ti.func
+    def slip_walls(I, vel):
+        """Nodes on and beyond a face lose their velocity into the wall (geompm's slip wall)."""
+        for a in ti.static(range(3)):
+            if I[a] <= 0 and vel[a] < 0.0:
+                vel[a] = 0.0
+            if I[a] >= N_CELLS and vel[a] > 0.0:
+                vel[a] = 0.0
+        return vel
+
     @ti.kernel
     def step_usl():
         for I in ti.grouped(g_m):
@@ -99,12 +109,7 @@ def build(x0: np.ndarray, scheme: str, fp):
         for I in ti.grouped(g_m):
             if g_m[I] > 0.0:
                 vel = g_v[I] / g_m[I] + DT * (g_f[I] / g_m[I] + gravity)
-                for a in ti.static(range(3)):
-                    if I[a] <= 0 and vel[a] < 0.0:
-                        vel[a] = 0.0
-                    if I[a] >= N_CELLS and vel[a] > 0.0:
-                        vel[a] = 0.0
-                g_v[I] = vel
+                g_v[I] = slip_walls(I, vel)
         for p in x:
             xi = x[p] * inv_h
             base = ti.cast(xi - 0.5, ti.i32)
@@ -150,12 +155,7 @@ def build(x0: np.ndarray, scheme: str, fp):
         for I in ti.grouped(g_m):
             if g_m[I] > 0.0:
                 vel = g_v[I] / g_m[I] + DT * gravity
-                for a in ti.static(range(3)):
-                    if I[a] <= 0 and vel[a] < 0.0:
-                        vel[a] = 0.0
-                    if I[a] >= N_CELLS and vel[a] > 0.0:
-                        vel[a] = 0.0
-                g_v[I] = vel
+                g_v[I] = slip_walls(I, vel)
         for p in x:
             xi = x[p] * inv_h
             base = ti.cast(xi - 0.5, ti.i32)

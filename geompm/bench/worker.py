@@ -79,7 +79,6 @@ def measure(case: str, steps: int, sets: list[str]) -> dict:
         "peak_rss_bytes": peak_rss(),
         "model_bytes": model_bytes,
         "bytes_per_particle": model_bytes / n,
-        "rss_bytes_per_particle": peak_rss() / n,
         "threads": numba.get_num_threads(),
     }
 
