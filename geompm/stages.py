@@ -1,7 +1,8 @@
 """Base classes of the per-step stages that plugins provide.
 
 - ``GridStage``: acts on grid velocities after the grid update (boundaries,
-  obstacles, grid damping).  ``apply_grid(view, dt, time, remap)``: ``remap``
+  obstacles, grid damping).  A stage that reads the nodal force or the
+  pre-update velocity says so with ``needs_split_force = True``.  ``apply_grid(view, dt, time, remap)``: ``remap``
   is True when the scheduler re-applies conditions to the MUSL re-mapped
   velocities (a stage that records forces should count only the first call).
 - ``ParticleStage``: acts on particles after G2P (particle damping).
@@ -42,6 +43,11 @@ class Stage(Plugin):
 
 
 class GridStage(Stage):
+    #: True when the stage reads ``view.g_force`` or ``view.g_vel_old``: the scheduler then
+    #: keeps the nodal force apart from the momentum (engine/grid.py); otherwise P2G folds
+    #: dt f into the momentum and those two arrays are None.
+    needs_split_force: bool = False
+
     def apply_grid(self, view, dt: float, time: float, remap: bool) -> None:
         raise NotImplementedError
 

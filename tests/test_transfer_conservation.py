@@ -11,16 +11,10 @@ import pytest
 
 from geompm.kernels.grid_update import momentum_to_velocity
 from geompm.kernels.shape import APIC_D_FACTOR, KIND
-from geompm.engine.scheduler import TRANSFERS
-from geompm.kernels.transfer import g2p as generic_g2p
-from geompm.kernels.transfer import p2g as generic_p2g
+
+from .transfer_kernels import kernels as _kernels
 
 H = 0.1
-
-
-def _kernels(impl, dim):
-    """The dimension-generic reference kernels or the 2D/3D ones the scheduler runs."""
-    return (generic_p2g, generic_g2p) if impl == "generic" else TRANSFERS[dim]
 
 
 def _angular(x, v, C, m, D):

@@ -12,9 +12,10 @@ show as an O(1) difference.
 import numpy as np
 import pytest
 
-from geompm.engine.scheduler import TRANSFERS
 from geompm.kernels.shape import APIC_D_FACTOR
 from geompm.kernels.transfer import g2p, p2g
+
+from .transfer_kernels import kernels
 
 H = 0.1
 
@@ -36,7 +37,7 @@ def test_specialised_transfers_equal_the_reference(dim, kind, mode):
     n, nn = len(x), int(np.prod(nloc))
     v, C = rng.normal(size=(n, dim)), rng.normal(size=(n, dim, dim))
     m, vol, sig = rng.random(n) + 0.5, rng.random(n) * 1e-3, rng.normal(size=(n, 6))
-    fast_p2g, fast_g2p = TRANSFERS[dim]
+    fast_p2g, fast_g2p = kernels("specialised", dim)
     grids = []
     for kernel in (p2g, fast_p2g):
         g = (np.zeros(nn), np.zeros((nn, dim)), np.zeros((nn, dim)))
@@ -75,3 +76,51 @@ def test_volume_follows_det_F_without_storing_F():
     assert abs(np.linalg.det(F) - 1.0) > 0.05  # the test deforms the volume noticeably
     assert p_vol[0] == pytest.approx(2.0e-3 * np.linalg.det(F), rel=1e-12)
     assert p_rho[0] == pytest.approx(3.0 / p_vol[0], rel=1e-14)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("kind", [0, 1, 2])
+def test_folded_p2g_equals_momentum_plus_dt_force(dim, kind):
+    """Folded P2G (engine/grid.py: no stage reads f_i) must give (mv)_i + dt f_i of the split
+    P2G, node by node, and leave the force array alone: the explicit update
+    v_i = ((mv)_i + dt f_i)/m_i + dt g is then the same as v_i = v_old + dt (f_i/m_i + g)."""
+    from geompm.engine.scheduler import TRANSFERS
+    from geompm.kernels.stencil import stencil_tag
+
+    rng = np.random.default_rng(40 + 10 * dim + kind)
+    origin, x, lo, nloc = _scene(dim, rng)
+    n, nn = len(x), int(np.prod(nloc))
+    v, C = rng.normal(size=(n, dim)), rng.normal(size=(n, dim, dim))
+    m, vol, sig = rng.random(n) + 0.5, rng.random(n) * 1e-3, rng.normal(size=(n, 6)) * 1e5
+    p2g_fast, dt = TRANSFERS[dim][0], 3e-3
+    args = (stencil_tag(kind), x, v, C, m, vol, sig, origin, H, kind, lo, nloc)
+    split = (np.zeros(nn), np.zeros((nn, dim)), np.zeros((nn, dim)))
+    p2g_fast(*args, np.zeros((2, nn, 1 + 2 * dim)), True, 1.0, *split)
+    folded = (np.zeros(nn), np.zeros((nn, dim)), np.full((nn, dim), 7.0))
+    p2g_fast(*args, np.zeros((2, nn, 1 + dim)), False, dt, *folded)
+    assert np.abs(dt * split[2]).max() > 0.1 * np.abs(split[1]).max()  # the force term matters
+    np.testing.assert_allclose(folded[0], split[0], rtol=0, atol=1e-13 * split[0].max())
+    expect = split[1] + dt * split[2]
+    np.testing.assert_allclose(folded[1], expect, rtol=0, atol=1e-12 * np.abs(expect).max())
+    assert (folded[2] == 7.0).all()
+
+
+@pytest.mark.parametrize("kind", [0, 1, 2])
+def test_register_stencil_equals_the_shape_functions(kind):
+    """kernels/stencil.axis_stencil (tuples, compile-time support) gives the weights and
+    derivatives of kernels/shape.axis_weights (Steffen, Kirby & Berzins 2008) at 2000 points,
+    zeros in the padding, and a support equal to len(stencil_tag(kind))."""
+    from geompm.kernels.shape import axis_weights, support
+    from geompm.kernels.stencil import axis_stencil, stencil_tag
+
+    S = support(kind)
+    assert len(stencil_tag(kind)) == S
+    w, dw = np.zeros(4), np.zeros(4)
+    for xi in np.random.default_rng(kind).uniform(-3.0, 30.0, 2000):
+        base = axis_weights(xi, kind, 4.0, w, dw)
+        b2, w2, dw2 = axis_stencil(xi, kind, 4.0)
+        assert b2 == base
+        np.testing.assert_allclose(w2[:S], w[:S], rtol=0, atol=1e-14)
+        np.testing.assert_allclose(dw2[:S], dw[:S], rtol=0, atol=1e-13)
+        assert w2[S:] == dw2[S:] == (0.0,) * (4 - S)
+        assert sum(w2) == pytest.approx(1.0, abs=1e-14)

@@ -28,7 +28,9 @@ class PeriodicParams(Params):
 
 
 @njit(cache=True)
-def periodic_fold(g_mass, g_vel, g_vel_old, lo, nloc, axis, ncells):
+def periodic_fold(g_mass, g_vel, g_vel_old, lo, nloc, axis, ncells, fold_old):
+    """Merge each ghost node with its image: summed mass, mass-weighted velocity (and the
+    pre-update velocity when ``fold_old``, i.e. when the scene keeps one, engine/grid.py)."""
     nn, d = g_vel.shape
     inner = 1
     for a in range(axis + 1, d):
@@ -50,11 +52,12 @@ def periodic_fold(g_mass, g_vel, g_vel_old, lo, nloc, axis, ncells):
                     continue
                 for a in range(d):
                     v = (g_mass[g] * g_vel[g, a] + g_mass[r] * g_vel[r, a]) / m
-                    vo = (g_mass[g] * g_vel_old[g, a] + g_mass[r] * g_vel_old[r, a]) / m
                     g_vel[g, a] = v
                     g_vel[r, a] = v
-                    g_vel_old[g, a] = vo
-                    g_vel_old[r, a] = vo
+                    if fold_old:
+                        vo = (g_mass[g] * g_vel_old[g, a] + g_mass[r] * g_vel_old[r, a]) / m
+                        g_vel_old[g, a] = vo
+                        g_vel_old[r, a] = vo
                 g_mass[g] = m
                 g_mass[r] = m
 
@@ -91,7 +94,9 @@ class Periodic(GridStage, ParticleStage):
         self.period = self.ncells * scene.grid.h
 
     def apply_grid(self, view, dt, time, remap):
-        periodic_fold(view.g_mass, view.g_vel, view.g_vel_old, view.lo, view.nloc, self.axis, self.ncells)
+        fold_old = view.g_vel_old is not None
+        old = view.g_vel_old if fold_old else view.g_vel
+        periodic_fold(view.g_mass, view.g_vel, old, view.lo, view.nloc, self.axis, self.ncells, fold_old)
 
     def apply_particles(self, state, dt, time):
         periodic_wrap(state.p_x, state.p_x0, self.axis, self.lo_x, self.period)

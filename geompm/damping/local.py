@@ -47,6 +47,7 @@ class LocalDamping(GridStage):
     name = "local"
     description = "Cundall local non-viscous damping on grid nodes (quasi-static stages)"
     Params = LocalParams
+    needs_split_force = True  # reads the nodal force and the pre-update velocity
 
     def setup(self, scene):
         self.gravity = scene.gravity

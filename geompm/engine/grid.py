@@ -43,35 +43,41 @@ class GridView:
     nloc: np.ndarray  # (d,) int64 window nodes per axis
     g_mass: np.ndarray  # (nn,) [kg]
     g_mom: np.ndarray  # (nn, d) [kg m/s]
-    g_force: np.ndarray  # (nn, d) [N]
+    g_force: np.ndarray | None  # (nn, d) [N]; None when P2G folds the force into the momentum
     g_vel: np.ndarray  # (nn, d) updated velocity [m/s]
-    g_vel_old: np.ndarray  # (nn, d) velocity before the update [m/s]
+    g_vel_old: np.ndarray | None  # (nn, d) velocity before the update [m/s]; None when folded
 
 
 class GridBuffers:
-    """Reusable grid arrays, including the per-chunk private P2G grids."""
+    """Reusable grid arrays, including the per-chunk private P2G grids.
 
-    def __init__(self, spec: GridSpec, nchunks: int | None = None):
+    ``split``: the scene needs the nodal force and the pre-update velocity on their own
+    (FLIP, local damping, periodic folding); otherwise P2G folds dt f into the momentum,
+    the private grids have 1 + d instead of 1 + 2d columns, and g_force / g_vel_old are
+    neither allocated nor offered to the stages.
+    """
+
+    def __init__(self, spec: GridSpec, nchunks: int | None = None, split: bool = True):
         self.spec = spec
         self.nchunks = nchunks or numba.get_num_threads()
+        self.split = split
         self.cap = 0
         self._alloc(1024)
 
     def _alloc(self, cap):
         d, c = self.spec.dim, self.nchunks
+        extra = d if self.split else 0
         self.cap = cap
-        self.c_mass = np.zeros((c, cap))
-        self.c_mom = np.zeros((c, cap, d))
-        self.c_force = np.zeros((c, cap, d))
+        self.c_grid = np.zeros((c, cap, 1 + d + extra))
         self.g_mass = np.zeros(cap)
         self.g_mom = np.zeros((cap, d))
-        self.g_force = np.zeros((cap, d))
+        self.g_force = np.zeros((cap if self.split else 0, d))
         self.g_vel = np.zeros((cap, d))
-        self.g_vel_old = np.zeros((cap, d))
+        self.g_vel_old = np.zeros((cap if self.split else 0, d))
 
     def nbytes(self) -> int:
-        return sum(a.nbytes for a in (self.c_mass, self.c_mom, self.c_force, self.g_mass,
-                                      self.g_mom, self.g_force, self.g_vel, self.g_vel_old))
+        return sum(a.nbytes for a in (self.c_grid, self.g_mass, self.g_mom, self.g_force,
+                                      self.g_vel, self.g_vel_old))
 
     def window(self, p_x) -> GridView:
         """Window covering every particle's stencil; error if a particle left the grid."""
@@ -91,5 +97,7 @@ class GridBuffers:
         nn = int(np.prod(nloc))
         if nn > self.cap:
             self._alloc(int(nn * 1.25) + 64)
-        return GridView(spec, lo, nloc, self.g_mass[:nn], self.g_mom[:nn], self.g_force[:nn],
-                        self.g_vel[:nn], self.g_vel_old[:nn])
+        split = self.split
+        return GridView(spec, lo, nloc, self.g_mass[:nn], self.g_mom[:nn],
+                        self.g_force[:nn] if split else None, self.g_vel[:nn],
+                        self.g_vel_old[:nn] if split else None)

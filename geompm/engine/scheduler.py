@@ -18,9 +18,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernels.grid_update import grid_update, momentum_to_velocity
+from ..kernels.grid_update import grid_update, grid_update_folded, momentum_to_velocity
 from ..kernels.reduce import kinetic_energy, max_coordinate
 from ..kernels.transfer2d import g2p_2d, p2g_2d
+from ..kernels.stencil import stencil_tag
 from ..kernels.transfer3d import g2p_3d, p2g_3d
 from ..stages import GridStage, ParticleStage
 from .grid import GridBuffers
@@ -31,12 +32,16 @@ from .timestep import stable_dt
 TRANSFERS = {2: (p2g_2d, g2p_2d), 3: (p2g_3d, g2p_3d)}
 
 
+#: transfer mode of FLIP (assemble.TRANSFER_MODE): it needs the pre-update grid velocity
+FLIP_MODE = 2
+
+
 class Simulation:
     def __init__(self, scene, nchunks: int | None = None):
         self.scene = scene
         self.state = scene.state
-        self.buffers = GridBuffers(scene.grid, nchunks)
         self.p2g, self.g2p = TRANSFERS[scene.dim]
+        self.tag = stencil_tag(scene.grid.kind)
         # periodic folding first (it merges ghost nodes), then damping; boundaries and obstacles
         # must have the last word on grid velocities
         periodic = [b for b in scene.boundaries if getattr(b, "merges_nodes", False)]
@@ -44,6 +49,10 @@ class Simulation:
         stages = periodic + scene.damping + others + scene.obstacles
         self.grid_stages = [s for s in stages if isinstance(s, GridStage)]
         self.particle_stages = [s for s in stages if isinstance(s, ParticleStage)]
+        # the nodal force and pre-update velocity are kept apart only when something reads them
+        self.split_force = scene.transfer_mode == FLIP_MODE or any(
+            s.needs_split_force for s in self.grid_stages)
+        self.buffers = GridBuffers(scene.grid, nchunks, self.split_force)
         self.mass_eps = 1e-9 * float(self.state.p_mass.min())
         self.time = 0.0
         self.step_count = 0
@@ -55,27 +64,34 @@ class Simulation:
 
     def _g2p(self, view, dt, set_velocity, move, gradient):
         st, sc, g = self.state, self.scene, self.scene.grid
-        self.g2p(st.p_x, st.p_v, st.p_C, st.p_L, st.p_vol, st.p_rho, st.p_mass,
-            view.g_vel, view.g_vel_old, g.origin, g.h, g.kind, view.lo, view.nloc, dt,
+        g_vel_old = view.g_vel_old if self.split_force else view.g_vel  # read by FLIP only
+        self.g2p(self.tag, st.p_x, st.p_v, st.p_C, st.p_L, st.p_vol, st.p_rho, st.p_mass,
+            view.g_vel, g_vel_old, g.origin, g.h, g.kind, view.lo, view.nloc, dt,
             sc.transfer_mode, sc.flip_ratio, sc.apic_dinv, set_velocity, move, gradient)
 
-    def _p2g(self, view, with_force):
+    def _p2g(self, view, f_scale):
+        """P2G; the force enters scaled by f_scale (split: 1 or 0; folded: dt or 0)."""
         st, g, b = self.state, self.scene.grid, self.buffers
-        self.p2g(st.p_x, st.p_v, st.p_C, st.p_mass, st.p_vol, st.p_stress, g.origin, g.h, g.kind,
-            view.lo, view.nloc, b.c_mass, b.c_mom, b.c_force, with_force,
-            view.g_mass, view.g_mom, view.g_force)
+        g_force = view.g_force if self.split_force else view.g_mom  # not written when folded
+        self.p2g(self.tag, st.p_x, st.p_v, st.p_C, st.p_mass, st.p_vol, st.p_stress, g.origin,
+            g.h, g.kind, view.lo, view.nloc, b.c_grid, self.split_force, f_scale,
+            view.g_mass, view.g_mom, g_force)
 
     def step(self, dt: float) -> None:
         st, sc = self.state, self.scene
         view = self.buffers.window(st.p_x)
-        self._p2g(view, True)
-        grid_update(view.g_mass, view.g_mom, view.g_force, sc.gravity, dt, self.mass_eps,
-                    view.g_vel, view.g_vel_old)
+        if self.split_force:
+            self._p2g(view, 1.0)
+            grid_update(view.g_mass, view.g_mom, view.g_force, sc.gravity, dt, self.mass_eps,
+                        view.g_vel, view.g_vel_old)
+        else:
+            self._p2g(view, dt)
+            grid_update_folded(view.g_mass, view.g_mom, sc.gravity, dt, self.mass_eps, view.g_vel)
         for stage in self.grid_stages:
             stage.apply_grid(view, dt, self.time, False)
         if sc.musl:
             self._g2p(view, dt, True, False, False)
-            self._p2g(view, False)
+            self._p2g(view, 0.0)
             momentum_to_velocity(view.g_mass, view.g_mom, self.mass_eps, view.g_vel)
             for stage in self.grid_stages:
                 stage.apply_grid(view, dt, self.time, True)

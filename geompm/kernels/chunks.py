@@ -37,3 +37,37 @@ def sum_chunks(c_mass, c_mom, c_force, g_mass, g_mom, g_force):
                 f += c_force[c, i, a]
             g_mom[i, a] = mv
             g_force[i, a] = f
+
+
+@njit(cache=True)
+def zero_rows(g, nn, width):
+    """Zero the first ``width`` columns of the first nn rows of one chunk's interleaved grid."""
+    for i in range(nn):
+        for a in range(width):
+            g[i, a] = 0.0
+
+
+@njit(parallel=True, fastmath=True, cache=True)
+def sum_interleaved(c_grid, split, g_mass, g_mom, g_force):
+    """Sum the interleaved private grids ``c_grid (nchunks, >= nn, 1 + 2d)`` in chunk order.
+
+    Columns: 0 mass, 1..d momentum, d+1..2d force (only when ``split``; a folded P2G
+    has already added dt f to the momentum and leaves g_force untouched).
+    """
+    nchunks = c_grid.shape[0]
+    nn, d = g_mom.shape
+    for i in prange(nn):
+        m = 0.0
+        for c in range(nchunks):
+            m += c_grid[c, i, 0]
+        g_mass[i] = m
+        for a in range(d):
+            mv = 0.0
+            for c in range(nchunks):
+                mv += c_grid[c, i, 1 + a]
+            g_mom[i, a] = mv
+            if split:
+                f = 0.0
+                for c in range(nchunks):
+                    f += c_grid[c, i, 1 + d + a]
+                g_force[i, a] = f

@@ -1,7 +1,9 @@
 """Explicit update of grid velocities (momentum balance on the nodes).
 
 v_old_i = (mv)_i / m_i,  v_i = v_old_i + dt (f_i / m_i + g)
-for nodes with m_i > mass_eps; other nodes get zero velocity.
+for nodes with m_i > mass_eps; other nodes get zero velocity.  When P2G has
+folded the force into the momentum ((mv)_i + dt f_i, engine/grid.py), the
+update is v_i = ((mv)_i + dt f_i) / m_i + dt g (``grid_update_folded``).
 Arrays: g_mass (nn,), g_mom/g_force/g_vel/g_vel_old (nn, d), gravity (d,) [m/s2].
 """
 
@@ -32,3 +34,13 @@ def momentum_to_velocity(g_mass, g_mom, mass_eps, g_vel):
         m = g_mass[i]
         for a in range(d):
             g_vel[i, a] = g_mom[i, a] / m if m > mass_eps else 0.0
+
+
+@njit(parallel=True, fastmath=True, cache=True)
+def grid_update_folded(g_mass, g_mom, gravity, dt, mass_eps, g_vel):
+    """v_i = ((mv)_i + dt f_i) / m_i + dt g, g_mom holding the folded momentum."""
+    nn, d = g_mom.shape
+    for i in prange(nn):
+        m = g_mass[i]
+        for a in range(d):
+            g_vel[i, a] = g_mom[i, a] / m + dt * gravity[a] if m > mass_eps else 0.0

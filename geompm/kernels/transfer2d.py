@@ -7,98 +7,101 @@ to rounding as transfer.py.
 import numpy as np
 from numba import njit, prange
 
-from .chunks import sum_chunks, zero_chunk
-from .shape import axis_weights, support
+from .chunks import sum_interleaved, zero_rows
+from .stencil import axis_stencil
 from .volume import update_volume
 
 
 @njit(parallel=True, fastmath=True, cache=True)
-def p2g_2d(p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc,
-           c_mass, c_mom, c_force, with_force, g_mass, g_mom, g_force):
-    """2D P2G: m_i, APIC momentum and f_i = -sum V_p sigma_p grad w (see transfer.p2g)."""
+def p2g_2d(tag, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc,
+           c_grid, split, f_scale, g_mass, g_mom, g_force):
+    """2D P2G: m_i, APIC momentum and f_i = -sum V_p sigma_p grad w (see transfer.p2g).
+
+    ``c_grid`` rows are [m, (mv)_x, (mv)_y, f_x, f_y]; ``split`` and ``f_scale`` as in
+    transfer3d.p2g_3d (folded: (mv)_i += f_scale f_i, g_force not written).
+    """
     n = p_x.shape[0]
-    nchunks = c_mass.shape[0]
+    nchunks = c_grid.shape[0]
+    width = c_grid.shape[2]
     nn = g_mass.shape[0]
-    S = support(kind)
+    S = len(tag)
     inv_h = 1.0 / h
     sx = nloc[1]
     for c in prange(nchunks):
-        cm = c_mass[c]
-        cp = c_mom[c]
-        cf = c_force[c]
-        zero_chunk(cm, cp, cf, nn)
-        w = np.empty((2, 4))
-        dw = np.empty((2, 4))
+        g = c_grid[c]
+        zero_rows(g, nn, width)
         for p in range(c * n // nchunks, (c + 1) * n // nchunks):
-            bx = axis_weights((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h, w[0], dw[0])
-            by = axis_weights((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h, w[1], dw[1])
+            bx, wx, dx = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
+            by, wy, dy = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
             m = p_mass[p]
             ox = bx * h + origin[0] - p_x[p, 0]
             oy = by * h + origin[1] - p_x[p, 1]
-            C = p_C[p]
-            q0 = m * (p_v[p, 0] + C[0, 0] * ox + C[0, 1] * oy)
-            q1 = m * (p_v[p, 1] + C[1, 0] * ox + C[1, 1] * oy)
+            q0 = m * (p_v[p, 0] + p_C[p, 0, 0] * ox + p_C[p, 0, 1] * oy)
+            q1 = m * (p_v[p, 1] + p_C[p, 1, 0] * ox + p_C[p, 1, 1] * oy)
             mh = m * h
-            ax0, ax1 = mh * C[0, 0], mh * C[1, 0]
-            ay0, ay1 = mh * C[0, 1], mh * C[1, 1]
-            nv = -p_vol[p]
+            ax0, ax1 = mh * p_C[p, 0, 0], mh * p_C[p, 1, 0]
+            ay0, ay1 = mh * p_C[p, 0, 1], mh * p_C[p, 1, 1]
+            nv = -p_vol[p] * f_scale
             sxx, syy, sxy = nv * p_stress[p, 0], nv * p_stress[p, 1], nv * p_stress[p, 3]
             base = (bx - lo[0]) * sx + (by - lo[1])
             for i in range(S):
-                wi = w[0, i]
-                dwi = dw[0, i]
+                wi = wx[i]
+                dwi = dx[i]
                 qi0, qi1 = q0 + i * ax0, q1 + i * ax1
+                # node (i, j): force sx_i w_j + sy_i dw_j per component
+                fx0, fx1 = dwi * sxx, dwi * sxy
+                fy0, fy1 = wi * sxy, wi * syy
                 idx = base + i * sx
                 for j in range(S):
-                    wt = wi * w[1, j]
-                    cm[idx + j] += wt * m
-                    cp[idx + j, 0] += wt * (qi0 + j * ay0)
-                    cp[idx + j, 1] += wt * (qi1 + j * ay1)
-                    if with_force:
-                        gx = dwi * w[1, j]
-                        gy = wi * dw[1, j]
-                        cf[idx + j, 0] += sxx * gx + sxy * gy
-                        cf[idx + j, 1] += sxy * gx + syy * gy
-    sum_chunks(c_mass, c_mom, c_force, g_mass, g_mom, g_force)
+                    wt = wi * wy[j]
+                    r = g[idx + j]
+                    f0 = fx0 * wy[j] + fy0 * dy[j]
+                    f1 = fx1 * wy[j] + fy1 * dy[j]
+                    r[0] += wt * m
+                    if split:
+                        r[1] += wt * (qi0 + j * ay0)
+                        r[2] += wt * (qi1 + j * ay1)
+                        r[3] += f0
+                        r[4] += f1
+                    else:
+                        r[1] += wt * (qi0 + j * ay0) + f0
+                        r[2] += wt * (qi1 + j * ay1) + f1
+    sum_interleaved(c_grid, split, g_mass, g_mom, g_force)
+
 
 @njit(parallel=True, fastmath=True, cache=True)
-def g2p_2d(p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,
+def g2p_2d(tag, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,
            origin, h, kind, lo, nloc, dt, mode, flip_ratio, apic_dinv, set_velocity, move, do_gradient):
     """2D G2P (see transfer.g2p); L keeps its 3x3 plane-strain form (z row and column zero)."""
     n = p_x.shape[0]
-    S = support(kind)
+    S = len(tag)
     inv_h = 1.0 / h
     sx = nloc[1]
     nchunks = max(1, min(n, 64 * 8))
     for c in prange(nchunks):
-        w = np.empty((2, 4))
-        dw = np.empty((2, 4))
         L = np.zeros((3, 3))
         for p in range(c * n // nchunks, (c + 1) * n // nchunks):
-            bx = axis_weights((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h, w[0], dw[0])
-            by = axis_weights((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h, w[1], dw[1])
+            bx, wx, dx = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
+            by, wy, dy = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
             base = (bx - lo[0]) * sx + (by - lo[1])
             v0 = v1 = d0 = d1 = 0.0
             l00 = l01 = l10 = l11 = 0.0
             b00 = b01 = b10 = b11 = 0.0  # B[:, a] = sum w v_i * (node step along axis a)
             for i in range(S):
-                wi = w[0, i]
-                dwi = dw[0, i]
+                wi = wx[i]
+                dwi = dx[i]
                 idx = base + i * sx
                 s0 = s1 = t0 = t1 = 0.0
                 for j in range(S):
-                    wt = wi * w[1, j]
+                    wt = wi * wy[j]
                     u0 = g_vel[idx + j, 0]
                     u1 = g_vel[idx + j, 1]
                     s0 += wt * u0
                     s1 += wt * u1
                     t0 += j * wt * u0
                     t1 += j * wt * u1
-                    if mode == 2:
-                        d0 += wt * (u0 - g_vel_old[idx + j, 0])
-                        d1 += wt * (u1 - g_vel_old[idx + j, 1])
-                    gx = dwi * w[1, j]
-                    gy = wi * dw[1, j]
+                    gx = dwi * wy[j]
+                    gy = wi * dy[j]
                     l00 += u0 * gx
                     l01 += u0 * gy
                     l10 += u1 * gx
@@ -109,6 +112,13 @@ def g2p_2d(p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,
                 b10 += i * s1
                 b01 += t0
                 b11 += t1
+            if mode == 2 and set_velocity:  # FLIP increment, a pass of its own (see transfer3d)
+                for i in range(S):
+                    idx = base + i * sx
+                    for j in range(S):
+                        wt = wx[i] * wy[j]
+                        d0 += wt * (g_vel[idx + j, 0] - g_vel_old[idx + j, 0])
+                        d1 += wt * (g_vel[idx + j, 1] - g_vel_old[idx + j, 1])
             if set_velocity:
                 ox = bx * h + origin[0] - p_x[p, 0]
                 oy = by * h + origin[1] - p_x[p, 1]

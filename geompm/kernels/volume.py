@@ -9,7 +9,7 @@ law in geompm needs it (stress laws take L and rho, materials/base.py).
 from numba import njit
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def update_volume(p, p_L, p_vol, p_rho, p_mass, L, dt):
     """p_L[p] = L (3x3, plane strain: z row and column zero);  V <- V det(I + dt L);  rho = m / V."""
     for a in range(3):
