@@ -17,7 +17,7 @@ from .geometry import overlap_problems, seed_body
 from .kernels.shape import APIC_D_FACTOR, KIND
 from .schema.load import LoadedCase
 
-TRANSFER_MODE = {"pic": 0, "apic": 1, "flip": 2}
+TRANSFER_MODE = {"pic": 0, "apic": 1, "flip": 2, "mls": 3}
 
 
 @dataclass

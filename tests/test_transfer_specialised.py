@@ -79,11 +79,13 @@ def test_volume_follows_det_F_without_storing_F():
 
 
 @pytest.mark.parametrize("dim", [2, 3])
-@pytest.mark.parametrize("kind", [0, 1, 2])
-def test_folded_p2g_equals_momentum_plus_dt_force(dim, kind):
+@pytest.mark.parametrize("kind,mls", [(0, False), (1, False), (2, False), (1, True), (2, True)])
+def test_folded_p2g_equals_momentum_plus_dt_force(dim, kind, mls):
     """Folded P2G (engine/grid.py: no stage reads f_i) must give (mv)_i + dt f_i of the split
     P2G, node by node, and leave the force array alone: the explicit update
-    v_i = ((mv)_i + dt f_i)/m_i + dt g is then the same as v_i = v_old + dt (f_i/m_i + g)."""
+    v_i = ((mv)_i + dt f_i)/m_i + dt g is then the same as v_i = v_old + dt (f_i/m_i + g).
+    For MLS the folded force is an affine term and the split one goes through
+    pseudo-derivatives: two different code paths that must agree."""
     from geompm.engine.scheduler import TRANSFERS
     from geompm.kernels.stencil import stencil_tag
 
@@ -93,11 +95,12 @@ def test_folded_p2g_equals_momentum_plus_dt_force(dim, kind):
     v, C = rng.normal(size=(n, dim)), rng.normal(size=(n, dim, dim))
     m, vol, sig = rng.random(n) + 0.5, rng.random(n) * 1e-3, rng.normal(size=(n, 6)) * 1e5
     p2g_fast, dt = TRANSFERS[dim][0], 3e-3
+    mls_dinv = 1.0 / (APIC_D_FACTOR[kind] * H * H) if mls else 0.0
     args = (stencil_tag(kind), x, v, C, m, vol, sig, origin, H, kind, lo, nloc)
     split = (np.zeros(nn), np.zeros((nn, dim)), np.zeros((nn, dim)))
-    p2g_fast(*args, np.zeros((2, nn, 1 + 2 * dim)), True, 1.0, *split)
+    p2g_fast(*args, np.zeros((2, nn, 1 + 2 * dim)), True, 1.0, mls_dinv, *split)
     folded = (np.zeros(nn), np.zeros((nn, dim)), np.full((nn, dim), 7.0))
-    p2g_fast(*args, np.zeros((2, nn, 1 + dim)), False, dt, *folded)
+    p2g_fast(*args, np.zeros((2, nn, 1 + dim)), False, dt, mls_dinv, *folded)
     assert np.abs(dt * split[2]).max() > 0.1 * np.abs(split[1]).max()  # the force term matters
     np.testing.assert_allclose(folded[0], split[0], rtol=0, atol=1e-13 * split[0].max())
     expect = split[1] + dt * split[2]

@@ -21,7 +21,7 @@ def _specialised(dim):
             g_mass, g_mom, g_force):
         c_grid = np.zeros((c_mass.shape[0], c_mass.shape[1], 1 + 2 * dim))
         fast_p2g(stencil_tag(kind), x, v, C, m, vol, sig, origin, h, kind, lo, nloc, c_grid, True,
-                 1.0 if with_force else 0.0, g_mass, g_mom, g_force)
+                 1.0 if with_force else 0.0, 0.0, g_mass, g_mom, g_force)
 
     def g2p(x, *args):
         kind = args[10]

@@ -32,8 +32,9 @@ from .timestep import stable_dt
 TRANSFERS = {2: (p2g_2d, g2p_2d), 3: (p2g_3d, g2p_3d)}
 
 
-#: transfer mode of FLIP (assemble.TRANSFER_MODE): it needs the pre-update grid velocity
-FLIP_MODE = 2
+#: transfer modes (assemble.TRANSFER_MODE): FLIP needs the pre-update grid velocity; MLS
+#: takes its force and velocity gradient from the APIC inertia D (kernels/stencil.py)
+FLIP_MODE, MLS_MODE = 2, 3
 
 
 class Simulation:
@@ -53,6 +54,7 @@ class Simulation:
         self.split_force = scene.transfer_mode == FLIP_MODE or any(
             s.needs_split_force for s in self.grid_stages)
         self.buffers = GridBuffers(scene.grid, nchunks, self.split_force)
+        self.mls_dinv = scene.apic_dinv if scene.transfer_mode == MLS_MODE else 0.0
         self.mass_eps = 1e-9 * float(self.state.p_mass.min())
         self.time = 0.0
         self.step_count = 0
@@ -74,7 +76,7 @@ class Simulation:
         st, g, b = self.state, self.scene.grid, self.buffers
         g_force = view.g_force if self.split_force else view.g_mom  # not written when folded
         self.p2g(self.tag, st.p_x, st.p_v, st.p_C, st.p_mass, st.p_vol, st.p_stress, g.origin,
-            g.h, g.kind, view.lo, view.nloc, b.c_grid, self.split_force, f_scale,
+            g.h, g.kind, view.lo, view.nloc, b.c_grid, self.split_force, f_scale, self.mls_dinv,
             view.g_mass, view.g_mom, g_force)
 
     def step(self, dt: float) -> None:

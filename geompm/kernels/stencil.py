@@ -47,3 +47,11 @@ def axis_stencil(xi, kind, inv_h):
     dw = (-0.5 * t0 * t0 * inv_h, (1.5 * r1 * r1 - 2.0 * r1) * inv_h,
           -(1.5 * r2 * r2 - 2.0 * r2) * inv_h, 0.5 * t3 * t3 * inv_h)
     return int(base), w, dw
+
+
+@njit(cache=True, inline="always")
+def mls_derivatives(w, o, h, dinv):
+    """MLS-MPM pseudo-derivatives along one axis, D^-1 w_k (o + k h) [1/m]: the factors of
+    grad w_ip ~ D^-1 w_ip (x_i - x_p) (Hu et al. 2018), o the first node's offset x_0 - x_p."""
+    return (dinv * w[0] * o, dinv * w[1] * (o + h), dinv * w[2] * (o + 2.0 * h),
+            dinv * w[3] * (o + 3.0 * h))

@@ -8,17 +8,18 @@ import numpy as np
 from numba import njit, prange
 
 from .chunks import sum_interleaved, zero_rows
-from .stencil import axis_stencil
+from .stencil import axis_stencil, mls_derivatives
 from .volume import update_volume
 
 
 @njit(parallel=True, fastmath=True, cache=True)
 def p2g_2d(tag, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc,
-           c_grid, split, f_scale, g_mass, g_mom, g_force):
+           c_grid, split, f_scale, mls_dinv, g_mass, g_mom, g_force):
     """2D P2G: m_i, APIC momentum and f_i = -sum V_p sigma_p grad w (see transfer.p2g).
 
     ``c_grid`` rows are [m, (mv)_x, (mv)_y, f_x, f_y]; ``split`` and ``f_scale`` as in
-    transfer3d.p2g_3d (folded: (mv)_i += f_scale f_i, g_force not written).
+    transfer3d.p2g_3d (folded: (mv)_i += f_scale f_i, g_force not written); ``mls_dinv > 0``:
+    the MLS-MPM force through the pseudo-derivatives of stencil.mls_derivatives.
     """
     n = p_x.shape[0]
     nchunks = c_grid.shape[0]
@@ -36,6 +37,9 @@ def p2g_2d(tag, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nlo
             m = p_mass[p]
             ox = bx * h + origin[0] - p_x[p, 0]
             oy = by * h + origin[1] - p_x[p, 1]
+            if mls_dinv > 0.0:
+                dx = mls_derivatives(wx, ox, h, mls_dinv)
+                dy = mls_derivatives(wy, oy, h, mls_dinv)
             q0 = m * (p_v[p, 0] + p_C[p, 0, 0] * ox + p_C[p, 0, 1] * oy)
             q1 = m * (p_v[p, 1] + p_C[p, 1, 0] * ox + p_C[p, 1, 1] * oy)
             mh = m * h
@@ -119,16 +123,19 @@ def g2p_2d(tag, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,
                         wt = wx[i] * wy[j]
                         d0 += wt * (g_vel[idx + j, 0] - g_vel_old[idx + j, 0])
                         d1 += wt * (g_vel[idx + j, 1] - g_vel_old[idx + j, 1])
+            ox = bx * h + origin[0] - p_x[p, 0]
+            oy = by * h + origin[1] - p_x[p, 1]
+            if mode == 3:  # MLS: L = C = (v o^T + h B) D^-1
+                l00, l01 = (v0 * ox + h * b00) * apic_dinv, (v0 * oy + h * b01) * apic_dinv
+                l10, l11 = (v1 * ox + h * b10) * apic_dinv, (v1 * oy + h * b11) * apic_dinv
             if set_velocity:
-                ox = bx * h + origin[0] - p_x[p, 0]
-                oy = by * h + origin[1] - p_x[p, 1]
                 if mode == 2:
                     p_v[p, 0] = flip_ratio * (p_v[p, 0] + d0) + (1.0 - flip_ratio) * v0
                     p_v[p, 1] = flip_ratio * (p_v[p, 1] + d1) + (1.0 - flip_ratio) * v1
                 else:
                     p_v[p, 0] = v0
                     p_v[p, 1] = v1
-                if mode == 1 and apic_dinv > 0.0:
+                if (mode == 1 or mode == 3) and apic_dinv > 0.0:
                     p_C[p, 0, 0] = (v0 * ox + h * b00) * apic_dinv
                     p_C[p, 0, 1] = (v0 * oy + h * b01) * apic_dinv
                     p_C[p, 1, 0] = (v1 * ox + h * b10) * apic_dinv

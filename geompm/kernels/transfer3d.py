@@ -15,13 +15,13 @@ import numpy as np
 from numba import njit, prange
 
 from .chunks import sum_interleaved, zero_rows
-from .stencil import axis_stencil
+from .stencil import axis_stencil, mls_derivatives
 from .volume import update_volume
 
 
 @njit(parallel=True, fastmath=True, cache=True)
 def p2g_3d(tag, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc,
-           c_grid, split, f_scale, g_mass, g_mom, g_force):
+           c_grid, split, f_scale, mls_dinv, g_mass, g_mom, g_force):
     """3D P2G: m_i, APIC momentum and f_i = -sum V_p sigma_p grad w (see transfer.p2g).
 
     ``c_grid (nchunks, >= nn, 4 or 7)``: the private grids, interleaved per node as
@@ -29,6 +29,8 @@ def p2g_3d(tag, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nlo
     columns, scaled by ``f_scale`` (1, or 0 for the MUSL re-map) and then to g_force.
     Otherwise it is folded into the momentum, (mv)_i += f_scale f_i with f_scale = dt,
     and g_force is not written: 4 instead of 7 updates per node (docs/performance.md).
+    ``mls_dinv > 0``: the MLS-MPM force (Hu et al. 2018), grad w replaced by D^-1 w (x_i - x_p)
+    with D^-1 = mls_dinv [1/m2]; folded, it is an affine term and costs nothing per node.
     """
     n = p_x.shape[0]
     nchunks = c_grid.shape[0]
@@ -38,6 +40,8 @@ def p2g_3d(tag, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nlo
     inv_h = 1.0 / h
     sy = nloc[2]
     sx = nloc[1] * nloc[2]
+    mls = mls_dinv > 0.0
+    affine_force = mls and not split
     for c in prange(nchunks):
         g = c_grid[c]
         zero_rows(g, nn, width)
@@ -50,18 +54,29 @@ def p2g_3d(tag, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nlo
             ox = bx * h + origin[0] - p_x[p, 0]
             oy = by * h + origin[1] - p_x[p, 1]
             oz = bz * h + origin[2] - p_x[p, 2]
-            # momentum at the first node, and its increments per node step along x, y, z
-            q0 = m * (p_v[p, 0] + p_C[p, 0, 0] * ox + p_C[p, 0, 1] * oy + p_C[p, 0, 2] * oz)
-            q1 = m * (p_v[p, 1] + p_C[p, 1, 0] * ox + p_C[p, 1, 1] * oy + p_C[p, 1, 2] * oz)
-            q2 = m * (p_v[p, 2] + p_C[p, 2, 0] * ox + p_C[p, 2, 1] * oy + p_C[p, 2, 2] * oz)
-            mh = m * h
-            ax0, ax1, ax2 = mh * p_C[p, 0, 0], mh * p_C[p, 1, 0], mh * p_C[p, 2, 0]
-            ay0, ay1, ay2 = mh * p_C[p, 0, 1], mh * p_C[p, 1, 1], mh * p_C[p, 2, 1]
-            az0, az1, az2 = mh * p_C[p, 0, 2], mh * p_C[p, 1, 2], mh * p_C[p, 2, 2]
             # -V sigma f_scale (Voigt xx, yy, zz, xy, yz, xz)
             nv = -p_vol[p] * f_scale
             sxx, syy, szz = nv * p_stress[p, 0], nv * p_stress[p, 1], nv * p_stress[p, 2]
             sxy, syz, sxz = nv * p_stress[p, 3], nv * p_stress[p, 4], nv * p_stress[p, 5]
+            # affine momentum matrix A = m C [kg/s]
+            a00, a01, a02 = m * p_C[p, 0, 0], m * p_C[p, 0, 1], m * p_C[p, 0, 2]
+            a10, a11, a12 = m * p_C[p, 1, 0], m * p_C[p, 1, 1], m * p_C[p, 1, 2]
+            a20, a21, a22 = m * p_C[p, 2, 0], m * p_C[p, 2, 1], m * p_C[p, 2, 2]
+            if affine_force:  # MLS, folded: -f_scale V sigma D^-1 joins A (Hu et al. 2018)
+                a00, a01, a02 = a00 + mls_dinv * sxx, a01 + mls_dinv * sxy, a02 + mls_dinv * sxz
+                a10, a11, a12 = a10 + mls_dinv * sxy, a11 + mls_dinv * syy, a12 + mls_dinv * syz
+                a20, a21, a22 = a20 + mls_dinv * sxz, a21 + mls_dinv * syz, a22 + mls_dinv * szz
+            elif mls:  # MLS, split: the same force through grad w ~ D^-1 w (x_i - x_p)
+                dx = mls_derivatives(wx, ox, h, mls_dinv)
+                dy = mls_derivatives(wy, oy, h, mls_dinv)
+                dz = mls_derivatives(wz, oz, h, mls_dinv)
+            # momentum at the first node, and its increments per node step along x, y, z
+            q0 = m * p_v[p, 0] + a00 * ox + a01 * oy + a02 * oz
+            q1 = m * p_v[p, 1] + a10 * ox + a11 * oy + a12 * oz
+            q2 = m * p_v[p, 2] + a20 * ox + a21 * oy + a22 * oz
+            ax0, ax1, ax2 = h * a00, h * a10, h * a20
+            ay0, ay1, ay2 = h * a01, h * a11, h * a21
+            az0, az1, az2 = h * a02, h * a12, h * a22
             base = (bx - lo[0]) * sx + (by - lo[1]) * sy + (bz - lo[2])
             for i in range(S):
                 wi = wx[i]
@@ -93,6 +108,15 @@ def p2g_3d(tag, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nlo
                             r[4] += Fa0 * wk + Fb0 * dwk
                             r[5] += Fa1 * wk + Fb1 * dwk
                             r[6] += Fa2 * wk + Fb2 * dwk
+                    elif affine_force:
+                        for k in range(S):
+                            wk = wz[k]
+                            kwk = k * wk
+                            r = g[idx + k]
+                            r[0] += mij * wk
+                            r[1] += Q0 * wk + R0 * kwk
+                            r[2] += Q1 * wk + R1 * kwk
+                            r[3] += Q2 * wk + R2 * kwk
                     else:
                         Q0 += Fa0
                         Q1 += Fa1
@@ -124,6 +148,7 @@ def g2p_3d(tag, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,
     sx = nloc[1] * nloc[2]
     nchunks = max(1, min(n, 64 * 8))
     flip = mode == 2
+    mls = mode == 3
     for c in prange(nchunks):
         L = np.zeros((3, 3))
         B = np.zeros((3, 3))
@@ -132,90 +157,164 @@ def g2p_3d(tag, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,
             by, wy, dy = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
             bz, wz, dz = axis_stencil((p_x[p, 2] - origin[2]) * inv_h, kind, inv_h)
             base = (bx - lo[0]) * sx + (by - lo[1]) * sy + (bz - lo[2])
-            v0 = v1 = v2 = 0.0  # sum w v_i
-            # L = sum v_i (x) grad w, and B[:, a] = sum w v_i * (node step along axis a)
-            l00 = l01 = l02 = l10 = l11 = l12 = l20 = l21 = l22 = 0.0
-            b00 = b01 = b02 = b10 = b11 = b12 = b20 = b21 = b22 = 0.0
-            # separable sums: innermost over k, then j, then i (tensor-product weights)
-            for i in range(S):
-                wi = wx[i]
-                dwi = dx[i]
-                A0 = A1 = A2 = 0.0  # sum_jk wy wz v
-                Y0 = Y1 = Y2 = 0.0  # sum_jk dwy wz v
-                Z0 = Z1 = Z2 = 0.0  # sum_jk wy dwz v
-                J0 = J1 = J2 = 0.0  # sum_jk j wy wz v
-                K0 = K1 = K2 = 0.0  # sum_jk k wy wz v
-                for j in range(S):
-                    wj = wy[j]
-                    dwj = dy[j]
-                    idx = base + i * sx + j * sy
-                    S0 = S1 = S2 = 0.0  # sum_k wz v
-                    T0 = T1 = T2 = 0.0  # sum_k dwz v
-                    U0 = U1 = U2 = 0.0  # sum_k k wz v
-                    for k in range(S):
-                        wk = wz[k]
-                        dwk = dz[k]
-                        kwk = k * wk
-                        u0 = g_vel[idx + k, 0]
-                        u1 = g_vel[idx + k, 1]
-                        u2 = g_vel[idx + k, 2]
-                        S0 += wk * u0
-                        S1 += wk * u1
-                        S2 += wk * u2
-                        T0 += dwk * u0
-                        T1 += dwk * u1
-                        T2 += dwk * u2
-                        U0 += kwk * u0
-                        U1 += kwk * u1
-                        U2 += kwk * u2
-                    A0 += wj * S0
-                    A1 += wj * S1
-                    A2 += wj * S2
-                    Y0 += dwj * S0
-                    Y1 += dwj * S1
-                    Y2 += dwj * S2
-                    Z0 += wj * T0
-                    Z1 += wj * T1
-                    Z2 += wj * T2
-                    J0 += j * wj * S0
-                    J1 += j * wj * S1
-                    J2 += j * wj * S2
-                    K0 += wj * U0
-                    K1 += wj * U1
-                    K2 += wj * U2
-                v0 += wi * A0
-                v1 += wi * A1
-                v2 += wi * A2
-                l00 += dwi * A0
-                l10 += dwi * A1
-                l20 += dwi * A2
-                l01 += wi * Y0
-                l11 += wi * Y1
-                l21 += wi * Y2
-                l02 += wi * Z0
-                l12 += wi * Z1
-                l22 += wi * Z2
-                b00 += i * wi * A0
-                b10 += i * wi * A1
-                b20 += i * wi * A2
-                b01 += wi * J0
-                b11 += wi * J1
-                b21 += wi * J2
-                b02 += wi * K0
-                b12 += wi * K1
-                b22 += wi * K2
-            d0 = d1 = d2 = 0.0
-            if flip:  # a pass of its own: in the loop above the branch cost 16 % of G2P
-                d0, d1, d2 = _flip_increment(S, wx, wy, wz, base, sx, sy, g_vel, g_vel_old)
-            L[0, 0], L[0, 1], L[0, 2] = l00, l01, l02
-            L[1, 0], L[1, 1], L[1, 2] = l10, l11, l12
-            L[2, 0], L[2, 1], L[2, 2] = l20, l21, l22
+            if mls:
+                (v0, v1, v2, b00, b01, b02, b10, b11, b12, b20, b21, b22) = _gather_affine(
+                    S, wx, wy, wz, base, sx, sy, g_vel)
+            else:
+                (v0, v1, v2, l00, l01, l02, l10, l11, l12, l20, l21, l22,
+                 b00, b01, b02, b10, b11, b12, b20, b21, b22) = _gather_full(
+                    S, wx, dx, wy, dy, wz, dz, base, sx, sy, g_vel)
+                L[0, 0], L[0, 1], L[0, 2] = l00, l01, l02
+                L[1, 0], L[1, 1], L[1, 2] = l10, l11, l12
+                L[2, 0], L[2, 1], L[2, 2] = l20, l21, l22
             B[0, 0], B[0, 1], B[0, 2] = b00, b01, b02
             B[1, 0], B[1, 1], B[1, 2] = b10, b11, b12
             B[2, 0], B[2, 1], B[2, 2] = b20, b21, b22
+            if mls:  # L = C = (v o^T + h B) D^-1, o the first node's offset
+                vp = (v0, v1, v2)
+                o = (bx * h + origin[0] - p_x[p, 0], by * h + origin[1] - p_x[p, 1],
+                     bz * h + origin[2] - p_x[p, 2])
+                for a in range(3):
+                    for b in range(3):
+                        L[a, b] = (vp[a] * o[b] + h * B[a, b]) * apic_dinv
+            d0 = d1 = d2 = 0.0
+            if flip:  # a pass of its own: in the loop above the branch cost 16 % of G2P
+                d0, d1, d2 = _flip_increment(S, wx, wy, wz, base, sx, sy, g_vel, g_vel_old)
             _finish(p, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, origin, h, bx, by, bz,
                     v0, v1, v2, d0, d1, d2, L, B, dt, mode, flip_ratio, apic_dinv, set_velocity, move,
                     do_gradient)
+
+
+@njit(cache=True, inline="always")
+def _gather_full(S, wx, dx, wy, dy, wz, dz, base, sx, sy, g_vel):
+    """v = sum w v_i, L = sum v_i (x) grad w and B[:, a] = sum w v_i (node step along axis a),
+    as separable sums: innermost over k, then j, then i (tensor-product weights)."""
+    v0 = v1 = v2 = 0.0  # sum w v_i
+    # L = sum v_i (x) grad w, and B[:, a] = sum w v_i * (node step along axis a)
+    l00 = l01 = l02 = l10 = l11 = l12 = l20 = l21 = l22 = 0.0
+    b00 = b01 = b02 = b10 = b11 = b12 = b20 = b21 = b22 = 0.0
+    # separable sums: innermost over k, then j, then i (tensor-product weights)
+    for i in range(S):
+        wi = wx[i]
+        dwi = dx[i]
+        A0 = A1 = A2 = 0.0  # sum_jk wy wz v
+        Y0 = Y1 = Y2 = 0.0  # sum_jk dwy wz v
+        Z0 = Z1 = Z2 = 0.0  # sum_jk wy dwz v
+        J0 = J1 = J2 = 0.0  # sum_jk j wy wz v
+        K0 = K1 = K2 = 0.0  # sum_jk k wy wz v
+        for j in range(S):
+            wj = wy[j]
+            dwj = dy[j]
+            idx = base + i * sx + j * sy
+            S0 = S1 = S2 = 0.0  # sum_k wz v
+            T0 = T1 = T2 = 0.0  # sum_k dwz v
+            U0 = U1 = U2 = 0.0  # sum_k k wz v
+            for k in range(S):
+                wk = wz[k]
+                dwk = dz[k]
+                kwk = k * wk
+                u0 = g_vel[idx + k, 0]
+                u1 = g_vel[idx + k, 1]
+                u2 = g_vel[idx + k, 2]
+                S0 += wk * u0
+                S1 += wk * u1
+                S2 += wk * u2
+                T0 += dwk * u0
+                T1 += dwk * u1
+                T2 += dwk * u2
+                U0 += kwk * u0
+                U1 += kwk * u1
+                U2 += kwk * u2
+            A0 += wj * S0
+            A1 += wj * S1
+            A2 += wj * S2
+            Y0 += dwj * S0
+            Y1 += dwj * S1
+            Y2 += dwj * S2
+            Z0 += wj * T0
+            Z1 += wj * T1
+            Z2 += wj * T2
+            J0 += j * wj * S0
+            J1 += j * wj * S1
+            J2 += j * wj * S2
+            K0 += wj * U0
+            K1 += wj * U1
+            K2 += wj * U2
+        v0 += wi * A0
+        v1 += wi * A1
+        v2 += wi * A2
+        l00 += dwi * A0
+        l10 += dwi * A1
+        l20 += dwi * A2
+        l01 += wi * Y0
+        l11 += wi * Y1
+        l21 += wi * Y2
+        l02 += wi * Z0
+        l12 += wi * Z1
+        l22 += wi * Z2
+        b00 += i * wi * A0
+        b10 += i * wi * A1
+        b20 += i * wi * A2
+        b01 += wi * J0
+        b11 += wi * J1
+        b21 += wi * J2
+        b02 += wi * K0
+        b12 += wi * K1
+        b22 += wi * K2
+    return (v0, v1, v2, l00, l01, l02, l10, l11, l12, l20, l21, l22,
+            b00, b01, b02, b10, b11, b12, b20, b21, b22)
+
+
+@njit(cache=True, inline="always")
+def _gather_affine(S, wx, wy, wz, base, sx, sy, g_vel):
+    """v = sum w v_i and B (as in _gather_full) without the gradient sums: the MLS-MPM
+    gather (Hu et al. 2018), where L = C comes from B."""
+    v0 = v1 = v2 = 0.0
+    b00 = b01 = b02 = b10 = b11 = b12 = b20 = b21 = b22 = 0.0
+    for i in range(S):
+        wi = wx[i]
+        A0 = A1 = A2 = 0.0  # sum_jk wy wz v
+        J0 = J1 = J2 = 0.0  # sum_jk j wy wz v
+        K0 = K1 = K2 = 0.0  # sum_jk k wy wz v
+        for j in range(S):
+            wj = wy[j]
+            idx = base + i * sx + j * sy
+            S0 = S1 = S2 = 0.0  # sum_k wz v
+            U0 = U1 = U2 = 0.0  # sum_k k wz v
+            for k in range(S):
+                wk = wz[k]
+                kwk = k * wk
+                u0 = g_vel[idx + k, 0]
+                u1 = g_vel[idx + k, 1]
+                u2 = g_vel[idx + k, 2]
+                S0 += wk * u0
+                S1 += wk * u1
+                S2 += wk * u2
+                U0 += kwk * u0
+                U1 += kwk * u1
+                U2 += kwk * u2
+            A0 += wj * S0
+            A1 += wj * S1
+            A2 += wj * S2
+            J0 += j * wj * S0
+            J1 += j * wj * S1
+            J2 += j * wj * S2
+            K0 += wj * U0
+            K1 += wj * U1
+            K2 += wj * U2
+        v0 += wi * A0
+        v1 += wi * A1
+        v2 += wi * A2
+        b00 += i * wi * A0
+        b10 += i * wi * A1
+        b20 += i * wi * A2
+        b01 += wi * J0
+        b11 += wi * J1
+        b21 += wi * J2
+        b02 += wi * K0
+        b12 += wi * K1
+        b22 += wi * K2
+    return v0, v1, v2, b00, b01, b02, b10, b11, b12, b20, b21, b22
 
 
 @njit(cache=True, inline="always")
@@ -248,7 +347,7 @@ def _finish(p, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, origin, h, bx, by, bz,
             else:
                 p_v[p, a] = vp[a]
             for b in range(3):
-                if mode == 1:
+                if mode == 1 or mode == 3:
                     if apic_dinv > 0.0:
                         p_C[p, a, b] = (vp[a] * o[b] + h * B[a, b]) * apic_dinv
                     else:

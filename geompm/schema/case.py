@@ -66,8 +66,10 @@ class RunSpec(Strict):
 
 
 class SolverSpec(Strict):
-    transfer: Literal["apic", "pic", "flip"] = Field(
-        "apic", description="Particle-grid velocity transfer: APIC (affine), PIC, or FLIP/PIC blend"
+    transfer: Literal["apic", "pic", "flip", "mls"] = Field(
+        "apic", description="Particle-grid velocity transfer: APIC (affine), PIC, FLIP/PIC blend, or MLS "
+        "(APIC with the MLS-MPM force and velocity gradient L = C of Hu et al. 2018: fewer flops per step; "
+        "quadratic or cubic shape functions)"
     )
     flip_ratio: float = Field(
         0.99, ge=0.0, le=1.0, description="FLIP fraction of the velocity update (transfer 'flip' only) [-]"

@@ -223,6 +223,9 @@ def parse_case(raw: dict, base_dir: str | Path = ".") -> LoadedCase:
         problems.append(("grid.cell_size", "must be at most half of every grid extent"))
     if case.time.dt_max is not None and case.time.dt is not None:
         problems.append(("time.dt", "give either a fixed 'dt' or 'dt_max', not both"))
+    if case.solver.transfer == "mls" and case.grid.shape_function == "linear":
+        problems.append(("solver.transfer", "'mls' needs a constant APIC inertia D, i.e. grid.shape_function "
+                                            "'quadratic' or 'cubic'; use 'apic' with 'linear'"))
     for i, body in enumerate(case.bodies):
         _check_body(i, body, case, base_dir, problems)
     loaded = LoadedCase(case=case, base_dir=base_dir, raw=raw)
