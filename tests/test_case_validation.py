@@ -53,7 +53,7 @@ MALFORMED = [
     ("boundaries.0.condition", "sticky", "boundaries.0.condition", "must be one of"),
     ("outputs.0.writer", "vtk", "outputs.0.writer", "did you mean 'vtu'"),
     ("outputs.0.interval", -1.0, "outputs.0.interval", "must be >= 0"),
-    ("solver.transfer", "mls", "solver.transfer", "must be one of"),
+    ("solver.transfer", "usf", "solver.transfer", "must be one of"),
     ("bodies.0.surface_normal", [0.0, 1.0], "bodies.0.surface_normal", "only used with"),
     ("bodies.0.surface_normal", [0.0, 1.0, 0.0], "bodies.0.surface_normal", "must have 2 entries"),
 ]
