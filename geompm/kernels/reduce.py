@@ -8,26 +8,33 @@ from numba import njit, prange
 
 @njit(parallel=True, cache=True)
 def cell_bounds(p_x, origin, inv_h):
-    """Per axis, min and max of floor((x - origin)/h) over particles: (2, d) int64."""
+    """Per axis, min and max of floor((x - origin)/h) over particles: (2, d) int64.
+
+    Coordinates are reduced as floats and floored once; a NaN or Inf anywhere (caught
+    through a running sum per chunk) gives bounds of -+2^61, which every caller refuses.
+    """
     n, d = p_x.shape
     nchunks = max(1, min(n, 256))
-    part = np.empty((nchunks, 2, d), np.int64)
+    part = np.empty((nchunks, 3, d))
     for c in prange(nchunks):
         for a in range(d):
-            part[c, 0, a] = 2 ** 62
-            part[c, 1, a] = -(2 ** 62)
+            part[c, 0, a] = np.inf
+            part[c, 1, a] = -np.inf
+            part[c, 2, a] = 0.0
         for p in range(c * n // nchunks, (c + 1) * n // nchunks):
             for a in range(d):
-                xi = (p_x[p, a] - origin[a]) * inv_h
-                if not math.isfinite(xi):
-                    xi = 1e18
-                i = math.floor(xi) if abs(xi) < 1e17 else (2 ** 61 if xi > 0 else -(2 ** 61))
-                part[c, 0, a] = min(part[c, 0, a], i)
-                part[c, 1, a] = max(part[c, 1, a], i)
+                x = p_x[p, a]
+                part[c, 0, a] = min(part[c, 0, a], x)
+                part[c, 1, a] = max(part[c, 1, a], x)
+                part[c, 2, a] += x
     out = np.empty((2, d), np.int64)
     for a in range(d):
-        out[0, a] = part[:, 0, a].min()
-        out[1, a] = part[:, 1, a].max()
+        lo, hi, total = part[:, 0, a].min(), part[:, 1, a].max(), part[:, 2, a].sum()
+        ilo, ihi = (lo - origin[a]) * inv_h, (hi - origin[a]) * inv_h
+        if not (math.isfinite(total) and abs(ilo) < 1e17 and abs(ihi) < 1e17):
+            out[0, a], out[1, a] = -(2 ** 61), 2 ** 61
+        else:
+            out[0, a], out[1, a] = math.floor(ilo), math.floor(ihi)
     return out
 
 
