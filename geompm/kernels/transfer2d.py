@@ -1,7 +1,8 @@
 """P2G and G2P specialised for 2D (plane strain): the transfers of transfer.py
 with the stencil as two nested loops, weights and APIC terms built up axis by
-axis (see transfer3d.py for the scheme).  Same arrays, arguments and results
-to rounding as transfer.py.
+axis (see transfer3d.py for the scheme, the stencil tag, the interleaved
+private grids, the folded force and MLS).  Same results to rounding as
+transfer.py with split force.
 """
 
 import numpy as np

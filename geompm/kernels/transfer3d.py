@@ -6,9 +6,13 @@ Per stencil node the generic kernel rebuilds the node's multi-index, weight,
 gradient and offset from scratch (about 120 flops in 3D); here the x and y
 factors are hoisted out of the inner loop and the affine momentum
 m (v + C (x_i - x_p)) is advanced by one column of m C h per node step, so a
-node costs about 30 flops (P2G) and 25 flops (G2P).  Same arrays, same
-arguments, same results to rounding as transfer.py; see that module for the
-array shapes and the chunked, deterministic P2G.
+node costs about 20 flops (P2G, force folded) and 18 flops (G2P).  Weights
+are register tuples and the support a compile-time constant (``tag``,
+stencil.py).  Same particle arrays and, with split force, the same results to
+rounding as transfer.py (tests/test_transfer_specialised.py); the private P2G
+grids are interleaved (``c_grid``), and P2G may fold the force into the
+momentum (engine/grid.py).  ``mode`` 3 is MLS-MPM (Hu et al. 2018): the
+force through grad w ~ D^-1 w (x_i - x_p) and L = C.
 """
 
 import numpy as np
