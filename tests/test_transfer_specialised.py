@@ -109,21 +109,23 @@ def test_folded_p2g_equals_momentum_plus_dt_force(dim, kind, mls):
 
 
 @pytest.mark.parametrize("kind", [0, 1, 2])
-def test_register_stencil_equals_the_shape_functions(kind):
-    """kernels/stencil.axis_stencil (tuples, compile-time support) gives the weights and
-    derivatives of kernels/shape.axis_weights (Steffen, Kirby & Berzins 2008) at 2000 points,
-    zeros in the padding, and a support equal to len(stencil_tag(kind))."""
-    from geompm.kernels.shape import axis_weights, support
-    from geompm.kernels.stencil import axis_stencil, stencil_tag
+def test_register_stencil_satisfies_the_b_spline_identities(kind):
+    """kernels/shape.axis_stencil, the register form every 2D/3D kernel uses, at 2000 points:
+    sum w = 1, sum dw = 0, sum w_k (x_k - x) = 0 and sum dw_k x_k = 1 (Steffen, Kirby &
+    Berzins 2008), w >= 0, the particle inside the support, zeros in the padding, and a
+    support equal to len(stencil_tag(kind)), the kernels' compile-time loop length."""
+    from geompm.kernels.shape import axis_stencil, support
+    from geompm.kernels.stencil import stencil_tag
 
-    S = support(kind)
-    assert len(stencil_tag(kind)) == S
-    w, dw = np.zeros(4), np.zeros(4)
+    S, h = support(kind), 0.25
+    assert len(stencil_tag(kind)) == S == kind + 2
     for xi in np.random.default_rng(kind).uniform(-3.0, 30.0, 2000):
-        base = axis_weights(xi, kind, 4.0, w, dw)
-        b2, w2, dw2 = axis_stencil(xi, kind, 4.0)
-        assert b2 == base
-        np.testing.assert_allclose(w2[:S], w[:S], rtol=0, atol=1e-14)
-        np.testing.assert_allclose(dw2[:S], dw[:S], rtol=0, atol=1e-13)
-        assert w2[S:] == dw2[S:] == (0.0,) * (4 - S)
-        assert sum(w2) == pytest.approx(1.0, abs=1e-14)
+        base, w, dw = axis_stencil(xi, kind, 1.0 / h)
+        xk = (base + np.arange(4)) * h  # node positions [m], particle at xi h
+        w, dw = np.array(w), np.array(dw)
+        assert base <= xi <= base + S - 1
+        assert (w[S:] == 0.0).all() and (dw[S:] == 0.0).all() and (w >= 0.0).all()
+        assert w.sum() == pytest.approx(1.0, abs=1e-14)
+        assert dw.sum() == pytest.approx(0.0, abs=1e-12)
+        assert (w * (xk - xi * h)).sum() == pytest.approx(0.0, abs=1e-14)
+        assert (dw * xk).sum() == pytest.approx(1.0, abs=1e-12)

@@ -1,8 +1,9 @@
 """Grid shape functions along one axis (tensor products give 2D/3D weights).
 
-``xi`` is the particle coordinate in node units, (x - origin) / h.  Each
-function writes the weights ``w[k]`` and their x-derivatives ``dw[k]`` [1/m]
-of the ``support`` nodes base, base+1, ... and returns ``base``.
+``xi`` is the particle coordinate in node units, (x - origin) / h.
+``axis_stencil`` returns ``base`` and the weights ``w[k]`` and x-derivatives
+``dw[k]`` [1/m] of the ``support`` nodes base, base+1, ...; ``axis_weights``
+writes them into arrays.
 
 - linear (kind 0): hat function, support 2.
 - quadratic B-spline (kind 1), support 3 (Steffen, Kirby, Berzins 2008).
@@ -25,39 +26,40 @@ def support(kind):
     return kind + 2
 
 
-@njit(cache=True)
-def axis_weights(xi, kind, inv_h, w, dw):
-    if kind == 0:
-        base = math.floor(xi)
-        f = xi - base
-        w[0] = 1.0 - f
-        w[1] = f
-        dw[0] = -inv_h
-        dw[1] = inv_h
-    elif kind == 1:
+@njit(cache=True, inline="always")
+def axis_stencil(xi, kind, inv_h):
+    """Weights w and x-derivatives dw [1/m] of the nodes base, base+1, ... at xi = (x - origin)/h,
+    as 4-tuples (zero beyond the support): the register form the 2D/3D kernels use."""
+    if kind == 1:
         base = math.floor(xi - 0.5)
         f = xi - base  # in [0.5, 1.5)
         a = 1.5 - f
         b = f - 1.0
         c = f - 0.5
-        w[0] = 0.5 * a * a
-        w[1] = 0.75 - b * b
-        w[2] = 0.5 * c * c
-        dw[0] = -a * inv_h
-        dw[1] = -2.0 * b * inv_h
-        dw[2] = c * inv_h
-    else:
-        base = math.floor(xi) - 1
-        f = xi - base  # in [1, 2)
-        for k in range(4):
-            r = f - k
-            s = 1.0 if r >= 0.0 else -1.0
-            r = abs(r)
-            if r < 1.0:
-                w[k] = 0.5 * r * r * r - r * r + 2.0 / 3.0
-                dw[k] = s * (1.5 * r * r - 2.0 * r) * inv_h
-            else:
-                t = 2.0 - r
-                w[k] = t * t * t / 6.0
-                dw[k] = s * (-0.5 * t * t) * inv_h
+        return (int(base), (0.5 * a * a, 0.75 - b * b, 0.5 * c * c, 0.0),
+                (-a * inv_h, -2.0 * b * inv_h, c * inv_h, 0.0))
+    if kind == 0:
+        base = math.floor(xi)
+        f = xi - base
+        return int(base), (1.0 - f, f, 0.0, 0.0), (-inv_h, inv_h, 0.0, 0.0)
+    base = math.floor(xi) - 1
+    f = xi - base  # in [1, 2): distances to the 4 nodes are f, f-1 (inner), 2-f... (outer)
+    r0, r1, r2, r3 = f, f - 1.0, 2.0 - f, 3.0 - f  # |x - x_k| / h for k = 0..3
+    t0, t3 = 2.0 - r0, 2.0 - r3
+    w = (t0 * t0 * t0 / 6.0, 0.5 * r1 * r1 * r1 - r1 * r1 + 2.0 / 3.0,
+         0.5 * r2 * r2 * r2 - r2 * r2 + 2.0 / 3.0, t3 * t3 * t3 / 6.0)
+    dw = (-0.5 * t0 * t0 * inv_h, (1.5 * r1 * r1 - 2.0 * r1) * inv_h,
+          -(1.5 * r2 * r2 - 2.0 * r2) * inv_h, 0.5 * t3 * t3 * inv_h)
+    return int(base), w, dw
+
+
+
+
+@njit(cache=True)
+def axis_weights(xi, kind, inv_h, w, dw):
+    """axis_stencil written into the arrays w, dw (the generic kernel's form); returns base."""
+    base, wt, dwt = axis_stencil(xi, kind, inv_h)
+    for k in range(support(kind)):
+        w[k] = wt[k]
+        dw[k] = dwt[k]
     return base
