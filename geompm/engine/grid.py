@@ -52,7 +52,7 @@ class GridBuffers:
     """Reusable grid arrays, including the per-chunk private P2G grids.
 
     ``split``: the scene needs the nodal force and the pre-update velocity on their own
-    (FLIP, local damping, periodic folding); otherwise P2G folds dt f into the momentum,
+    (FLIP, local damping); otherwise P2G folds dt f into the momentum,
     the private grids have 1 + d instead of 1 + 2d columns, and g_force / g_vel_old are
     neither allocated nor offered to the stages.
     """
