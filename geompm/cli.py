@@ -9,7 +9,6 @@ from __future__ import annotations
 import argparse
 import json
 import logging
-import shutil
 import signal
 import sys
 from pathlib import Path
@@ -17,6 +16,7 @@ from pathlib import Path
 from . import __version__, registry
 from .errors import CaseError, SimulationError
 from .fileio import atomic_write_text
+from .ownership import MARKER, create_folder, mark_folder, may_write, owned_kind, remove_tree
 from .bench.command import add_parser as bench_parser
 from .study.calibrate import add_parser as calibrate_parser
 from .study.command import add_parser as study_parser
@@ -63,8 +63,11 @@ def cmd_validate(args) -> int:
     print(f"case '{scene.name}' is valid: {scene.dim}D, {scene.state.n} particles, "
           f"{cells} grid cells ({'x'.join(str(c) for c in scene.grid.ncells)}, h = {scene.grid.h:g} m), "
           f"~{nodes} active nodes")
-    print(f"estimated memory {mem / 2**20:.1f} MiB, first time step {dt:.3g} s, "
-          f"~{scene.end_time / dt:.0f} steps to t = {scene.end_time:g} s")
+    steps = f"~{scene.end_time / dt:.0f} steps" if dt > 0.0 else "no step can be taken"
+    print(f"estimated memory {mem / 2**20:.1f} MiB, first time step {dt:.3g} s, {steps} to t = {scene.end_time:g} s")
+    if not dt >= scene.dt_min:
+        print(f"warning: the first time step is below time.dt_min = {scene.dt_min:g} s: `geompm run` would stop "
+              "before the first step (exit 3); the wave speed sqrt(E/rho), the viscosity and time.cfl set it")
     _viscous_warning(loaded, scene, print)
     return 0
 
@@ -74,6 +77,10 @@ def _viscous_warning(loaded, scene, emit) -> None:
     from .assemble import assemble
     from .engine.estimate import viscous_report
 
+    from .engine.timestep import stable_dt
+
+    if not stable_dt(scene, scene.state) >= scene.dt_min:
+        return  # the dt_min check speaks for this case (validate warns, run stops with exit 3)
     rep = viscous_report(scene, lambda: assemble(loaded))
     if rep is not None:
         emit("warning: " + rep.message(scene.end_time))
@@ -87,24 +94,31 @@ def _same_case(old: dict, new: dict) -> bool:
     return a == b
 
 
+def _case_folder(args) -> tuple:
+    """What a delete must never touch besides the current and home folders: the case file's folder."""
+    return ((Path(args.case).resolve().parent, f"the case file {args.case}"),)
+
+
 def _run_folder(args, loaded, scene) -> Path:
     """The run folder: a fresh one (refusing to overwrite) or, with --resume, the existing one."""
     if args.resume:
         run_dir = Path(args.resume)
         saved = run_dir / "case.json"
         if not saved.is_file():
-            raise CaseError([("", f"'{run_dir}' is not a geompm run folder (no case.json)")])
+            raise CaseError([("--resume", f"'{run_dir}' is not a geompm run folder (no case.json)")])
         if not _same_case(json.loads(saved.read_text()), loaded.raw):
-            raise CaseError([("", f"the case differs from the one '{run_dir}' was started with "
-                                  "(only time.end may change on --resume); use that case.json")])
+            raise CaseError([("--resume", f"the case differs from the one '{run_dir}' was started with "
+                                          "(only time.end may change on --resume); use that case.json")])
+        if owned_kind(run_dir) is None and (run_dir / "checkpoints").is_dir() and not (run_dir / MARKER).exists():
+            mark_folder(run_dir, "run", adopted=True)  # a run folder of a geompm without markers
         return run_dir
     run_dir = Path(args.out) if args.out else Path("runs") / scene.name
-    if run_dir.exists() and any(run_dir.iterdir()):
+    if run_dir.exists() and (not run_dir.is_dir() or any(run_dir.iterdir())):
         if not args.overwrite:
-            raise CaseError([("", f"run folder '{run_dir}' already exists; use --overwrite, --out DIR, "
-                                  "or --resume to continue it")])
-        shutil.rmtree(run_dir)
-    run_dir.mkdir(parents=True, exist_ok=True)
+            raise CaseError([("--out", f"run folder '{run_dir}' already exists; use --overwrite (only for a "
+                                       "folder geompm made), --out DIR, or --resume to continue it")])
+        remove_tree(run_dir, "run", protect=_case_folder(args))
+    create_folder(run_dir, "run")
     atomic_write_text(run_dir / "case.json", json.dumps(loaded.raw, indent=2) + "\n")
     return run_dir
 
@@ -158,9 +172,9 @@ def cmd_run(args) -> int:
     from .writers.series import SeriesWriter
 
     loaded, scene = _load(args)
+    mem, nodes, dt = _estimate(scene)
     run_dir = _run_folder(args, loaded, scene)
     _setup_logging(run_dir, quiet=args.quiet)
-    mem, nodes, dt = _estimate(scene)
     writers = list(scene.writers)
     if not any(isinstance(w, SeriesWriter) for w in writers):
         writers.insert(0, SeriesWriter(SeriesWriter.Params(), 0.0))
@@ -246,7 +260,14 @@ def cmd_info(args) -> int:
 
 
 def cmd_plot(args) -> int:
+    from .plotting import PNG_NAMES
+
     run_dir = _run_dir_arg(args.run_dir)
+    out = Path(args.output) if args.output else run_dir / "plots"
+    taken = [str(out / n) for n in PNG_NAMES if not may_write(out / n)]
+    if taken:
+        raise CaseError([("--output", f"{taken[0]} exists and geompm did not make it; it is not overwritten. "
+                                      "Choose another -o folder")])
     try:
         from .plotting import plot_run
 
@@ -271,12 +292,24 @@ def cmd_plugins(args) -> int:
 def cmd_schema(args) -> int:
     from .schema.export import case_json_schema
 
-    text = json.dumps(case_json_schema(), indent=2) + "\n"
+    schema = case_json_schema()
+    text = json.dumps(schema, indent=2) + "\n"
     if args.output:
-        Path(args.output).write_text(text)
+        if not may_write(args.output) and not _is_case_schema(Path(args.output), schema["$id"]):
+            raise CaseError([("--output", f"'{args.output}' exists and is not a geompm case schema; it is not "
+                                          "overwritten. Choose another file")])
+        atomic_write_text(args.output, text)
     else:
         sys.stdout.write(text)
     return 0
+
+
+def _is_case_schema(path: Path, schema_id: str) -> bool:
+    """True if ``path`` holds a geompm case schema (an older `geompm schema -o`), which may be replaced."""
+    try:
+        return path.is_file() and json.loads(path.read_text()).get("$id") == schema_id
+    except (OSError, ValueError, AttributeError):
+        return False
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -318,7 +351,8 @@ def main(argv=None) -> int:
     try:
         return args.func(args)
     except CaseError as exc:
-        print("error: the case is not valid:", file=sys.stderr)
+        refused = all(path.startswith("--") for path, _ in exc.problems)
+        print("error: refused:" if refused else "error: the case is not valid:", file=sys.stderr)
         for path, msg in exc.problems:
             print(f"  {path or '<case>'}: {msg}", file=sys.stderr)
         return 2

@@ -11,6 +11,8 @@ import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 
+from .ownership import register_made, remove_file
+
 
 @contextmanager
 def atomic_path(target: str | Path, suffix: str = ""):
@@ -19,14 +21,16 @@ def atomic_path(target: str | Path, suffix: str = ""):
     target.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=suffix or target.suffix, dir=target.parent)
     os.close(fd)
+    register_made(tmp)
     try:
         yield Path(tmp)
         with open(tmp, "rb") as fh:
             os.fsync(fh.fileno())
         os.replace(tmp, target)
+        register_made(target)
     finally:
         if os.path.exists(tmp):
-            os.unlink(tmp)
+            remove_file(tmp)
 
 
 def atomic_write_text(target: str | Path, text: str) -> None:

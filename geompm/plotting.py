@@ -15,6 +15,9 @@ from pathlib import Path
 import numpy as np
 
 
+PNG_NAMES = ("series.png", "forces.png", "deposit.png")  # what plot_run writes
+
+
 def _load(series_csv):
     return np.genfromtxt(series_csv, delimiter=",", names=True)
 

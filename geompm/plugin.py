@@ -17,7 +17,7 @@ from pydantic import BaseModel, ConfigDict
 class Params(BaseModel):
     """Base for plugin parameter models: unknown keys are errors."""
 
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
 
 
 class Plugin:

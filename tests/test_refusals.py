@@ -156,3 +156,102 @@ def test_mutated_cases_load_or_fail_with_a_json_path(case):
         for path, msg in exc.problems:
             assert isinstance(path, str) and msg
             assert path or "case" in msg or "grid" in msg or "JSON" in msg, exc.problems
+
+
+# -- property-based, hostile numbers and shapes (issue 14): NaN, +/-Infinity, 1e308, -0.0, deep nesting,
+# wrong types inside lists, through the file and through --set; geompm validate answers 0 or 2, never a traceback
+
+def _nested(depth):
+    node: list = [1.0]
+    for _ in range(depth):
+        node = [node]
+    return node
+
+
+_HOSTILE = st.one_of(
+    st.sampled_from([float("nan"), float("inf"), -float("inf"), 1e308, -1e308, -0.0, 0.0, 5e-324, 10**400]),
+    st.floats(), st.integers(-10**30, 10**30), st.text(max_size=6), st.none(), st.booleans(),
+    st.lists(st.one_of(st.floats(), st.text(max_size=3), st.none(), st.booleans()), max_size=4),
+    st.integers(33, 80).map(_nested),
+)
+
+
+def _hostile_inside(node, depth=0) -> bool:
+    """A non-finite float, an integer beyond a double, or nesting deeper than 32 anywhere in ``node``."""
+    if depth > 32:
+        return True
+    if isinstance(node, dict):
+        return any(_hostile_inside(v, depth + 1) for v in node.values())
+    if isinstance(node, list):
+        return any(_hostile_inside(v, depth + 1) for v in node)
+    if isinstance(node, float):
+        return node != node or node in (float("inf"), -float("inf"))
+    return isinstance(node, int) and abs(node) > 10**308
+
+
+@st.composite
+def hostile_cases(draw):
+    case = tiny_case()
+    paths = [p for p in _paths(case) if p]
+    for _ in range(draw(st.integers(1, 3))):
+        path = draw(st.sampled_from(paths))
+        node = case
+        try:
+            for k in path[:-1]:
+                node = node[k]
+            node[path[-1]] = draw(_HOSTILE)
+        except (KeyError, IndexError, TypeError):
+            pass
+    return case
+
+
+def _validate_exit(tmp_path, case, sets=()) -> tuple[int, str]:
+    import io
+    from contextlib import redirect_stderr, redirect_stdout
+
+    f = tmp_path / "case.json"
+    f.write_text(json.dumps(case, allow_nan=True))
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        code = main(["validate", str(f), *sum((["--set", s] for s in sets), [])])
+    return code, err.getvalue()
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow,
+                                                                 HealthCheck.function_scoped_fixture])
+@given(hostile_cases())
+def test_hostile_numbers_give_exit_0_or_2_and_a_json_path(tmp_path, case):
+    """150 cases with NaN, Infinity, 1e308, -0.0, 5e-324, a 400-digit integer, 33-80-deep lists or wrong
+    types put anywhere: `geompm validate` exits 0 or 2, a non-finite number is always refused, and every
+    refusal names a JSON path.  Any other exception fails the test (main() lets it through)."""
+    code, err = _validate_exit(tmp_path, case)
+    assert code in (0, 2)
+    if _hostile_inside(case):
+        assert code == 2 and ("finite number" in err or "levels deep" in err or "too large" in err), err
+    if code == 2:
+        assert all(ln.startswith("  ") and ": " in ln for ln in err.splitlines()[1:]), err
+
+
+_SET_VALUES = st.one_of(st.sampled_from(["NaN", "Infinity", "-Infinity", "1e308", "1e999", "-0.0", "[NaN]",
+                                         "[" * 3000 + "]" * 3000, "9" * 5000, "{}", "[]", "null", "\"x\"",
+                                         "[1, \"a\", null]", "{\"a\": [1, 2]}"]),
+                        st.text(max_size=8))
+_SET_KEYS = st.sampled_from(["time.end", "grid.cell_size", "gravity.0", "gravity.5", "gravity.-1", "gravity.x",
+                             "materials.soil.density", "bodies.0.geometry.min.1", "name", "name.x", "",
+                             ".", "a..b", "time", "bodies.0", "outputs.0.interval", "nosuch.key"])
+
+
+@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow,
+                                                                 HealthCheck.function_scoped_fixture])
+@given(st.lists(st.tuples(_SET_KEYS, _SET_VALUES), min_size=1, max_size=3))
+def test_hostile_set_values_give_exit_0_or_2(tmp_path, sets):
+    """--set with hostile keys (out-of-range and negative indexes, a key below a string, empty parts) and
+    values (NaN, Infinity, 1e999, 3000-deep lists, 5000-digit integers, objects for numbers): exit 0 or
+    2, and a non-finite value put on a real number key is refused."""
+    items = [f"{k}={v}" for k, v in sets]
+    code, err = _validate_exit(tmp_path, tiny_case(), items)
+    assert code in (0, 2), err
+    for k, v in sets:
+        if k in ("time.end", "grid.cell_size", "gravity.0", "materials.soil.density") and v in (
+                "NaN", "Infinity", "-Infinity", "1e999"):
+            assert code == 2

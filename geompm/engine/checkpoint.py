@@ -20,6 +20,7 @@ import numpy as np
 from .. import __version__
 from ..errors import CaseError
 from ..fileio import atomic_path
+from ..ownership import remove_file
 
 FOLDER = "checkpoints"
 
@@ -42,7 +43,7 @@ def save(run_dir: Path, sim, runner_meta: dict, writers, keep: int = 2) -> Path:
         with open(tmp, "wb") as fh:
             np.savez(fh, meta=np.array(json.dumps(meta)), **arrays)
     for old in sorted(folder.glob("step_*.npz"))[:-keep]:
-        old.unlink()
+        remove_file(old)
     return target
 
 

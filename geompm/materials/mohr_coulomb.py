@@ -11,7 +11,9 @@ main plane; if that breaks the principal order, return to the edge (two planes
 active: sigma_1 = sigma_2 in triaxial extension, sigma_2 = sigma_3 in triaxial
 compression); if the edge return is inadmissible, return to the apex
 sigma_i = c cot(phi).  The principal directions of the trial stress are kept
-(isotropy).  State variables as in drucker_prager.py.
+(isotropy); they come from a register Jacobi solver (kernels/eigen3.py), not
+LAPACK, so the law needs no scipy and no allocation per particle.  State
+variables as in drucker_prager.py.
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ import numpy as np
 from numba import njit, prange
 from pydantic import model_validator
 
+from ..kernels.eigen3 import sym_eig3
 from .plasticity import ElastoplasticParams, FrictionalMaterial, elastic_trial
 
 
@@ -95,31 +98,37 @@ def mc_principal_return(s1, s2, s3, lam, G, sphi, cphi, spsi, c):
     return apex, apex, apex, math.sqrt(2.0 / 3.0) * dev / (2.0 * G), (mean - apex) / K
 
 
+@njit(cache=True, inline="always")
+def _rebuild(s, w0, w1, w2, x0, y0, z0, x1, y1, z1, x2, y2, z2):
+    """Voigt stress s = w0 v0 v0^T + w1 v1 v1^T + w2 v2 v2^T, v_k = (x_k, y_k, z_k)."""
+    s[0] = w0 * x0 * x0 + w1 * x1 * x1 + w2 * x2 * x2
+    s[1] = w0 * y0 * y0 + w1 * y1 * y1 + w2 * y2 * y2
+    s[2] = w0 * z0 * z0 + w1 * z1 * z1 + w2 * z2 * z2
+    s[3] = w0 * x0 * y0 + w1 * x1 * y1 + w2 * x2 * y2
+    s[4] = w0 * y0 * z0 + w1 * y1 * z1 + w2 * y2 * z2
+    s[5] = w0 * x0 * z0 + w1 * x1 * z1 + w2 * x2 * z2
+
+
 @njit(parallel=True, cache=True)
 def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
     lam, G, sphi, cphi, spsi, c = prm[1], prm[2], prm[3], prm[4], prm[5], prm[6]
     n = p_L.shape[0]
     nchunks = max(1, min(n, 256))
     for ch in prange(nchunks):
-        M = np.empty((3, 3))
         for p in range(ch * n // nchunks, (ch + 1) * n // nchunks):
             s = p_stress[p]
             tr = elastic_trial(s, p_L[p], dt, lam, G)
-            M[0, 0], M[1, 1], M[2, 2] = tr[0], tr[1], tr[2]
-            M[0, 1] = M[1, 0] = tr[3]
-            M[1, 2] = M[2, 1] = tr[4]
-            M[0, 2] = M[2, 0] = tr[5]
-            w, V = np.linalg.eigh(M)  # ascending: w[2] = sigma_1
-            r1, r2, r3, deq, dvol = mc_principal_return(w[2], w[1], w[0], lam, G, sphi, cphi, spsi, c)
+            # Voigt order (xx, yy, zz, xy, yz, xz); eigenvalues ascending: w[2] = sigma_1
+            e = sym_eig3(tr[0], tr[1], tr[2], tr[3], tr[4], tr[5])
+            r1, r2, r3, deq, dvol = mc_principal_return(e[2], e[1], e[0], lam, G, sphi, cphi, spsi, c)
             if deq == 0.0 and dvol == 0.0:
                 for i in range(6):
                     s[i] = tr[i]
                 continue
             p_state[p, 0] += deq
             p_state[p, 1] += dvol
-            ws = (r3, r2, r1)
-            for i, (a, b) in enumerate(((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))):
-                s[i] = ws[0] * V[a, 0] * V[b, 0] + ws[1] * V[a, 1] * V[b, 1] + ws[2] * V[a, 2] * V[b, 2]
+            # sigma = sum_k r_k v_k v_k^T with the trial stress's principal directions v_k (columns)
+            _rebuild(s, r3, r2, r1, e[3], e[4], e[5], e[6], e[7], e[8], e[9], e[10], e[11])
 
 
 class MohrCoulomb(FrictionalMaterial):

@@ -18,7 +18,7 @@ Vector = list[float]
 
 
 class Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
 
 
 class GridSpec(Strict):
@@ -82,25 +82,25 @@ class SolverSpec(Strict):
 class MaterialSpec(BaseModel):
     """``{"model": <plugin name>, ...the plugin's parameters}``."""
 
-    model_config = ConfigDict(extra="allow")
+    model_config = ConfigDict(extra="allow", allow_inf_nan=False)
     model: str = Field(description="Name of a plugin in the geompm.materials entry-point group")
 
 
 class PluginSpec(BaseModel):
     """A boundary/obstacle: ``{"type": <plugin name>, ...its parameters}``."""
 
-    model_config = ConfigDict(extra="allow")
+    model_config = ConfigDict(extra="allow", allow_inf_nan=False)
     type: str = Field(description="Name of a plugin in the group of this list")
     name: str | None = Field(None, description="Optional label used in series.csv columns")
 
 
 class DampingSpec(BaseModel):
-    model_config = ConfigDict(extra="allow")
+    model_config = ConfigDict(extra="allow", allow_inf_nan=False)
     model: str = Field(description="Name of a plugin in the geompm.damping entry-point group")
 
 
 class OutputSpec(BaseModel):
-    model_config = ConfigDict(extra="allow")
+    model_config = ConfigDict(extra="allow", allow_inf_nan=False)
     writer: str = Field(description="Name of a plugin in the geompm.writers entry-point group")
     interval: float = Field(
         0.0, ge=0.0, description="Simulated time between two outputs [s]; 0 writes every step"
@@ -159,10 +159,14 @@ class BodySpec(Strict):
                           "Default: against gravity")
 
 
+NAME_PATTERN = r"^[A-Za-z0-9_\-][A-Za-z0-9_.\-]*$"  # names a folder: never '.', '..' or hidden
+
+
 class Case(Strict):
     """A geompm case.  Every length in m, time in s, density kg/m3, stress Pa."""
 
-    name: str = Field(pattern=r"^[A-Za-z0-9_.\-]+$", description="Run name; default output folder runs/<name>")
+    name: str = Field(pattern=NAME_PATTERN, description="Run name; default output folder runs/<name>. Letters, "
+                      "digits, '_', '-' and '.', not starting with '.'")
     description: str = ""
     dimension: Literal[2, 3] = Field(description="2 = plane strain, 3 = three-dimensional")
     grid: GridSpec

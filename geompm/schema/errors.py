@@ -29,6 +29,7 @@ _SHORT = {
     "dict_type": "must be an object",
     "model_type": "must be an object",
     "string_type": "must be a string",
+    "finite_number": "must be a finite number",
 }
 
 
@@ -118,6 +119,9 @@ def format_validation_error(exc: ValidationError, root: type[BaseModel], prefix=
             msg = _SHORT[etype].format(**ctx)
         elif etype == "literal_error":
             msg = f"must be one of {ctx.get('expected', '')}, got {err.get('input')!r}"
+        elif etype == "string_pattern_mismatch" and loc == ("name",):
+            msg = ("a run name is letters, digits, '_', '-' and '.', and does not start with '.' (it names the "
+                   "folder runs/<name>)")
         elif etype == "union_tag_invalid":
             msg = f"unknown type {ctx.get('tag')!r}; must be one of {ctx.get('expected_tags')}"
         else:

@@ -25,6 +25,7 @@ from ..fileio import case_relative, unreadable_file
 from ..resources import available_memory, grid_bytes, particle_bytes, window_nodes
 from .case import Case, DampingSpec, MaterialSpec, OutputSpec, PluginSpec
 from .errors import format_validation_error
+from .raw_checks import TOO_DEEP, merge, raw_problems
 
 
 @dataclass
@@ -50,18 +51,44 @@ class LoadedCase:
 
 
 def read_json(path: str | Path) -> dict:
+    """The JSON object in a case file; CaseError with one clear line for anything else.
+
+    UTF-8 (with or without a byte-order mark), UTF-16 and UTF-32 are read;
+    an empty file, malformed JSON, deep nesting, an integer literal too long to
+    convert, another encoding or a folder given as the file are refused."""
     path = Path(path)
     try:
-        text = path.read_text()
+        data = path.read_bytes()
     except OSError as exc:
-        raise CaseError([("", f"cannot read case file '{path}': {exc.strerror}")]) from None
+        raise CaseError([("", f"cannot read case file '{path}': {exc.strerror or exc}")]) from None
+    if not data.strip():
+        raise CaseError([("", f"{path}: the case file is empty; a case is a JSON object {{...}}")])
     try:
-        raw = json.loads(text)
+        raw = json.loads(data)
     except json.JSONDecodeError as exc:
         raise CaseError([("", f"{path}: malformed JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}")]) from None
+    except UnicodeDecodeError as exc:
+        raise CaseError([("", f"{path}: not UTF-8 text (byte {data[exc.start]:#04x} at offset {exc.start}); "
+                              "save the case as UTF-8")]) from None
+    except RecursionError:
+        raise CaseError([("", f"{path}: the JSON is nested too deeply to read; a geompm case needs at most "
+                              "about 6 levels")]) from None
+    except ValueError:  # an integer literal of more than 4300 digits
+        raise CaseError([("", f"{path}: a number with thousands of digits; give numbers within "
+                              "+/-1.8e308")]) from None
     if not isinstance(raw, dict):
-        raise CaseError([("", f"{path}: the case must be a JSON object")])
+        raise CaseError([("", f"{path}: the case must be a JSON object {{...}}, not {type(raw).__name__}")])
     return raw
+
+
+def _override_value(key: str, text: str):
+    """A --set value: JSON if it parses, else the text itself."""
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError:
+        return text
+    except (RecursionError, ValueError):
+        raise CaseError([(key, f"--set {key}: the value cannot be read (nested too deeply or too long)")]) from None
 
 
 def apply_overrides(raw: dict, sets: list[str] | tuple[str, ...]) -> dict:
@@ -71,14 +98,13 @@ def apply_overrides(raw: dict, sets: list[str] | tuple[str, ...]) -> dict:
         if "=" not in item:
             raise CaseError([(item, "a --set must look like dotted.key=value")])
         key, text = item.split("=", 1)
-        try:
-            value = json.loads(text)
-        except json.JSONDecodeError:
-            value = text
         parts = key.split(".")
+        if not key or any(not part for part in parts):
+            raise CaseError([(key, f"--set {item}: the key must be a dotted path like grid.cell_size")])
+        value = _override_value(key, text)
         node = raw
         for i, part in enumerate(parts[:-1]):
-            nxt = int(part) if isinstance(node, list) and part.lstrip("-").isdigit() else part
+            nxt = int(part) if isinstance(node, list) and part.isdigit() else part
             try:
                 node = node[nxt]
             except (KeyError, IndexError, TypeError):
@@ -86,10 +112,13 @@ def apply_overrides(raw: dict, sets: list[str] | tuple[str, ...]) -> dict:
         last = parts[-1]
         if isinstance(node, list):
             if not last.isdigit() or int(last) >= len(node):
-                raise CaseError([(key, f"--set {key}: index out of range")])
+                raise CaseError([(key, f"--set {key}: index out of range (the list has {len(node)} entries)")])
             node[int(last)] = value
-        else:
+        elif isinstance(node, dict):
             node[last] = value
+        else:
+            raise CaseError([(key, f"--set {key}: '{join_path(*parts[:-1])}' is a {type(node).__name__}, "
+                                   "not an object or a list")])
     return raw
 
 
@@ -120,6 +149,25 @@ def _check_vec(vec, dim, path, problems, positive=False):
         problems.append((path, f"must have {dim} entries (one per dimension), got {len(vec)}"))
     elif positive and any(v <= 0 for v in vec):
         problems.append((path, "every entry must be > 0"))
+
+
+MAX_CELLS_PER_AXIS = 2**31 - 1  # node indices are int32-safe
+MAX_COORD_PER_CELL = 1e9  # |x| / h: beyond it a double resolves a cell to fewer than ~7 digits
+
+
+def _check_grid_size(grid, problems) -> None:
+    """Cells per axis within index range, and coordinates that a double resolves inside a cell."""
+    h = grid.cell_size
+    if any(e < 2 * h for e in grid.extent):
+        problems.append(("grid.cell_size", "must be at most half of every grid extent"))
+    cells = max(e / h for e in grid.extent)
+    if not cells <= MAX_CELLS_PER_AXIS:
+        problems.append(("grid.cell_size", f"gives {cells:.3g} cells along one axis (at most "
+                                           f"{MAX_CELLS_PER_AXIS}); check the units of cell_size and extent [m]"))
+    reach = max(max(abs(o), abs(o + e)) for o, e in zip(grid.origin, grid.extent))
+    if not reach / h <= MAX_COORD_PER_CELL:
+        problems.append(("grid.origin", f"coordinates up to {reach:.3g} m with cells of {h:g} m cannot be resolved "
+                                        "in double precision; shift the scene so the grid lies near the origin"))
 
 
 def _check_body(i, body, case: Case, base_dir: Path, problems):
@@ -155,6 +203,9 @@ def _check_body(i, body, case: Case, base_dir: Path, problems):
     elif geom.type == "polygon":
         if dim == 3 and geom.extrude is None:
             problems.append((f"{gpath}.extrude", "a polygon in a 3D case needs 'extrude': [z_min, z_max]"))
+        elif dim == 3 and not lo[2] <= geom.extrude[0] < geom.extrude[1] <= hi[2]:
+            problems.append((f"{gpath}.extrude", f"[z_min, z_max] = {geom.extrude} must be increasing and lie "
+                                                 f"inside the grid's z range {lo[2]:g}..{hi[2]:g}"))
         for j, v in enumerate(geom.vertices):
             if len(v) != 2:
                 problems.append((f"{gpath}.vertices.{j}", "a polygon vertex has 2 entries (x, y)"))
@@ -206,7 +257,18 @@ def _plugin_pass(raw: dict, case, loaded, problems) -> None:
 
 def parse_case(raw: dict, base_dir: str | Path = ".") -> LoadedCase:
     """Validate a raw case dict (both passes); CaseError lists every problem."""
-    base_dir = Path(base_dir)
+    pre = raw_problems(raw)
+    if pre:  # nothing numeric runs on NaN, Infinity or a runaway nesting: report them and the schema's problems
+        if not any(m.startswith(TOO_DEEP) for _, m in pre):
+            try:
+                Case.model_validate(raw)
+            except ValidationError as exc:
+                pre = merge(pre, format_validation_error(exc, Case))
+        raise CaseError(pre)
+    return _parse_valid_numbers(raw, Path(base_dir))
+
+
+def _parse_valid_numbers(raw: dict, base_dir: Path) -> LoadedCase:
     try:
         case = Case.model_validate(raw)
     except ValidationError as exc:
@@ -219,8 +281,9 @@ def parse_case(raw: dict, base_dir: str | Path = ".") -> LoadedCase:
     _check_vec(case.grid.origin, dim, "grid.origin", problems)
     _check_vec(case.grid.extent, dim, "grid.extent", problems, positive=True)
     _check_vec(case.gravity, dim, "gravity", problems)
-    if len(case.grid.extent) == dim and any(e < 2 * case.grid.cell_size for e in case.grid.extent):
-        problems.append(("grid.cell_size", "must be at most half of every grid extent"))
+    if problems:  # the body and plugin checks below need grid vectors of the right length
+        raise CaseError(problems)
+    _check_grid_size(case.grid, problems)
     if case.time.dt_max is not None and case.time.dt is not None:
         problems.append(("time.dt", "give either a fixed 'dt' or 'dt_max', not both"))
     if case.solver.transfer == "mls" and case.grid.shape_function == "linear":

@@ -29,12 +29,14 @@ import numpy as np
 
 from ..errors import CaseError
 from ..fileio import atomic_write_text
+from ..ownership import holds_only, prepare_folder
 from ..schema.load import load_case
 from . import metrics as M
 from .execute import Pool, finished, run_variant, threads_per_run, variant_case
 from .report import write_csv
 
 COMPARED = ("X_star", "K_star")
+CALIBRATION_FILES = {"calibration.csv", "evaluations.csv", "calibration.json", "calibration.png"}
 # Source study, section 3.2: calibrated mu_inf [Pa s] against cell size h [m].
 SOURCE_MU_INF = {0.02: 1.9, 0.01: 1.2, 0.005: 0.8, 0.0025: 0.6}
 
@@ -169,7 +171,8 @@ def cmd_calibrate(args) -> int:
     soils, fluid_raw = _check(args)
     bounds = {h: pair for (_, _, h), pair in zip(soils, args.bound_pairs)}
     out = Path(args.out or Path("calibrations") / fluid_raw.get("name", "fluid"))
-    out.mkdir(parents=True, exist_ok=True)
+    prepare_folder(out, "calibration", resume=True, overwrite=False,
+                   legacy=lambda f: holds_only(f, CALIBRATION_FILES, r"h[0-9.e+-]+"))
     folders = {h: out / f"h{h:g}" for _, _, h in soils}
     tried = {h: {} for _, _, h in soils}
     evaluations = []

@@ -13,12 +13,12 @@ from __future__ import annotations
 import json
 import math
 import os
-import shutil
 import sys
 from pathlib import Path
 
 from ..errors import CaseError
 from ..fileio import atomic_write_text
+from ..ownership import holds_only, prepare_folder
 from ..schema.load import apply_overrides, load_case, read_json
 from . import metrics as M
 from . import report
@@ -121,13 +121,14 @@ def check_metrics(requested: list[str]) -> None:
         raise CaseError([("--metric", f"'{bad[0]}' is not a metric name; give one name per --metric")])
 
 
+STUDY_FILES = {"runs", "study.csv", "study_summary.json", "study.png"}
+
+
 def _prepare_folder(out: Path, args) -> None:
-    if out.exists() and any(out.iterdir()) and not args.resume:
-        if not args.overwrite:
-            raise CaseError([("--out", f"study folder '{out}' already exists; use --resume to keep its finished "
-                                       "variants, --overwrite to start again, or another --out")])
-        shutil.rmtree(out)
-    (out / "runs").mkdir(parents=True, exist_ok=True)
+    prepare_folder(out, "study", resume=args.resume, overwrite=args.overwrite,
+                   protect=((Path(args.case).resolve().parent, f"the case file {args.case}"),),
+                   legacy=lambda f: holds_only(f, STUDY_FILES))
+    (out / "runs").mkdir(exist_ok=True)
 
 
 def _run(pool: Pool, case, jobs, quiet: bool) -> dict:
