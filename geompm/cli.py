@@ -69,7 +69,14 @@ def cmd_validate(args) -> int:
         print(f"warning: the first time step is below time.dt_min = {scene.dt_min:g} s: `geompm run` would stop "
               "before the first step (exit 3); the wave speed sqrt(E/rho), the viscosity and time.cfl set it")
     _viscous_warning(loaded, scene, print)
+    _stage_warnings(scene, print)
     return 0
+
+
+def _stage_warnings(scene, emit) -> None:
+    for stage in scene.boundaries + scene.obstacles + scene.damping:
+        for text in stage.warnings():
+            emit("warning: " + text)
 
 
 def _viscous_warning(loaded, scene, emit) -> None:
@@ -194,6 +201,7 @@ def cmd_run(args) -> int:
                  f"h = {scene.grid.h:g} m, end time {scene.end_time:g} s, first dt {dt:.3g} s, "
                  f"~{mem / 2**20:.0f} MiB -> {run_dir}")
         _viscous_warning(loaded, scene, log.warning)
+        _stage_warnings(scene, log.warning)
     summary = None
     try:
         with _StopOnSignal(runner) as stopper:

@@ -5,7 +5,9 @@
   pre-update velocity says so with ``needs_split_force = True``.  ``apply_grid(view, dt, time, remap)``: ``remap``
   is True when the scheduler re-applies conditions to the MUSL re-mapped
   velocities (a stage that records forces should count only the first call).
-- ``ParticleStage``: acts on particles after G2P (particle damping).
+- ``ParticleStage``: acts on particles after G2P (particle damping, the
+  obstacles' penetration guard).  A stage may be both: a rigid obstacle acts
+  on grid nodes and then on the particles that still got inside it.
 
 A stage may contribute columns to series.csv through ``series()``, a dict of
 column name -> value at the current step.  A stage that carries state from
@@ -34,6 +36,11 @@ class Stage(Plugin):
     def summary(self) -> str:
         """A line for the end of a run (e.g. an obstacle's peak force), or ''."""
         return ""
+
+    def warnings(self) -> list[str]:
+        """What `geompm validate` and `geompm run` should warn about after set-up (e.g. an obstacle thinner
+        than the grid resolves), each a full sentence."""
+        return []
 
     def state_dict(self) -> dict:
         return {}

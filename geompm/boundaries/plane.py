@@ -12,6 +12,9 @@ mu = 1.07 tan(theta) (tests/test_boundaries.py); with 0 it needs about
 mu = 1.18 tan(theta).  The price: a body arriving at the plane stops about one
 cell earlier (closest approach of a dropped block: 1.2 cells with 0, 2.2 cells
 with one cell), see docs/method.md, "Frictional contact".
+
+After G2P a particle that still ended behind the plane is put back on it
+(halfspace_guard.py), so none is ever deeper than round-off.
 """
 
 from __future__ import annotations
@@ -23,8 +26,9 @@ from numba import njit, prange
 from pydantic import Field, field_validator
 
 from ..plugin import Params, vector_length_problems
-from ..stages import GridStage
+from ..stages import GridStage, ParticleStage
 from .contact import CONDITIONS, apply_condition
+from .halfspace_guard import halfspace_guard
 
 
 class PlaneParams(Params):
@@ -59,7 +63,7 @@ def plane_apply(g_vel, g_mass, origin, h, lo, nloc, point, normal, layer, condit
             apply_condition(g_vel, idx, normal, condition, mu)
 
 
-class Plane(GridStage):
+class Plane(GridStage, ParticleStage):
     name = "plane"
     description = "Rigid plane of any orientation (point, normal): slip, fixed or Coulomb friction"
     Params = PlaneParams
@@ -79,3 +83,6 @@ class Plane(GridStage):
         plane_apply(view.g_vel, view.g_mass, self.grid.origin, self.grid.h, view.lo, view.nloc,
                     self.point, self.normal, self.params.contact_layer, self.condition,
                     self.params.friction)
+
+    def apply_particles(self, state, dt, time):
+        halfspace_guard(state.p_x, state.p_v, self.point, self.normal, self.condition, self.params.friction)

@@ -3,7 +3,8 @@
 Acts on the nodes on and beyond the face (global index <= 0 for a '-' side,
 >= ncells for a '+' side), with the unit normal pointing into the domain, by
 the rule of contact.py: ``fixed`` (no slip), ``slip`` (free to separate) or
-``friction`` (Coulomb, coefficient ``friction``).
+``friction`` (Coulomb, coefficient ``friction``).  After G2P a particle that
+ended beyond the face is put back on it (halfspace_guard.py).
 """
 
 from __future__ import annotations
@@ -15,8 +16,9 @@ from numba import njit
 from pydantic import Field
 
 from ..plugin import Params
-from ..stages import GridStage
+from ..stages import GridStage, ParticleStage
 from .contact import CONDITIONS, apply_condition
+from .halfspace_guard import halfspace_guard
 
 SIDES = ("x-", "x+", "y-", "y+", "z-", "z+")
 
@@ -47,7 +49,7 @@ def wall_apply(g_vel, g_mass, lo, nloc, axis, normal, first, last, condition, mu
                     apply_condition(g_vel, idx, normal, condition, mu)
 
 
-class Wall(GridStage):
+class Wall(GridStage, ParticleStage):
     name = "wall"
     description = "Rigid wall on a grid face: slip, fixed (no-slip) or Coulomb friction"
     Params = WallParams
@@ -66,7 +68,13 @@ class Wall(GridStage):
         self.normal[self.axis] = 1.0 if minus else -1.0
         self.first, self.last = (-(1 << 40), 0) if minus else (n, 1 << 40)
         self.condition = CONDITIONS[self.params.condition]
+        self.point = scene.grid.origin.astype(float).copy()
+        if not minus:
+            self.point[self.axis] = scene.grid.upper[self.axis]
 
     def apply_grid(self, view, dt, time, remap):
         wall_apply(view.g_vel, view.g_mass, view.lo, view.nloc, self.axis, self.normal,
                    self.first, self.last, self.condition, self.params.friction)
+
+    def apply_particles(self, state, dt, time):
+        halfspace_guard(state.p_x, state.p_v, self.point, self.normal, self.condition, self.params.friction)

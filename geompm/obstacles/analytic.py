@@ -48,6 +48,10 @@ class BoxObstacle(RigidObstacle):
     def bounds(self):
         return np.asarray(self.params.min, float), np.asarray(self.params.max, float)
 
+    def thinnest(self):
+        lo, hi = self.bounds()
+        return float((hi - lo).min())
+
     def signed_distance(self, pts):
         lo, hi = self.bounds()
         c, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
@@ -69,6 +73,9 @@ class SphereObstacle(RigidObstacle):
     def bounds(self):
         c = np.asarray(self.params.center, float)
         return c - self.params.radius, c + self.params.radius
+
+    def thinnest(self):
+        return 2.0 * self.params.radius
 
     def signed_distance(self, pts):
         return np.linalg.norm(pts - np.asarray(self.params.center, float), axis=1) - self.params.radius
@@ -93,6 +100,10 @@ class CylinderObstacle(SphereObstacle):
             c = self.params.center[k]
             lo[k], hi[k] = c - 0.5 * self.params.length, c + 0.5 * self.params.length
         return lo, hi
+
+    def thinnest(self):
+        d = 2.0 * self.params.radius
+        return d if self.dim == 2 else min(d, self.params.length)
 
     def signed_distance(self, pts):
         if pts.shape[1] == 2:

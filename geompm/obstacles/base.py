@@ -28,7 +28,9 @@ from pydantic import Field
 from ..boundaries.contact import CONDITIONS, apply_condition
 from ..errors import CaseError
 from ..plugin import Params, vector_length_problems
-from ..stages import GridStage
+from ..stages import GridStage, ParticleStage
+from .guard import guard_particles, guard_spacing, lattice_points
+from .sdf_field import interp_field, sdf_lattice
 
 
 class ObstacleParams(Params):
@@ -39,32 +41,6 @@ class ObstacleParams(Params):
         0.0, ge=0.0, description="Nodes with signed distance <= this [m] are in contact (0: on or inside)")
     moment_point: list[float] | None = Field(None, description="Reference point of the moment [m]; default the "
                                                                "centre of the obstacle's bounding box")
-
-
-@njit(cache=True, inline="always")
-def _interp(field, lat_origin, inv_h, shape, x, base, frac, out):
-    """Trilinear (bilinear in 2D) interpolation of a flat lattice field (points, k) at x (d,) into out (k,)."""
-    d = x.shape[0]
-    k = field.shape[1]
-    for c in range(k):
-        out[c] = 0.0
-    for a in range(d):
-        xi = (x[a] - lat_origin[a]) * inv_h
-        i = int(np.floor(xi))
-        i = min(max(i, 0), shape[a] - 2)
-        base[a] = i
-        frac[a] = min(max(xi - i, 0.0), 1.0)
-    for corner in range(1 << d):
-        w = 1.0
-        flat = 0
-        for a in range(d):
-            bit = (corner >> a) & 1
-            w *= frac[a] if bit else 1.0 - frac[a]
-            flat = flat * shape[a] + base[a] + bit
-        if w == 0.0:
-            continue
-        for c in range(k):
-            out[c] += w * field[flat, c]
 
 
 @njit(cache=True)
@@ -101,7 +77,7 @@ def obstacle_apply(g_vel, g_mass, origin, h, lo, nloc, field, lat_origin, lat_sh
                 inside_box = False
         if not inside_box:
             continue
-        _interp(field, lat_origin, inv_h, lat_shape, x, base, frac, val)
+        interp_field(field, lat_origin, inv_h, lat_shape, x, base, frac, val)
         if val[0] > layer:
             continue
         norm = 0.0
@@ -138,22 +114,15 @@ def obstacle_apply(g_vel, g_mass, origin, h, lo, nloc, field, lat_origin, lat_sh
     return count
 
 
-def sdf_lattice(sdf_fn, lo, hi, h):
-    """Signed distance (positive outside) and its gradient on a lattice covering [lo, hi] + 2 cells."""
-    lo = np.asarray(lo, float) - 2 * h
-    hi = np.asarray(hi, float) + 2 * h
-    shape = np.ceil((hi - lo) / h).astype(np.int64) + 1
-    axes = [lo[a] + h * np.arange(shape[a]) for a in range(len(lo))]
-    pts = np.stack([m.ravel() for m in np.meshgrid(*axes, indexing="ij")], axis=1)
-    phi = np.asarray(sdf_fn(pts), dtype=float).reshape(tuple(shape))
-    grads = np.gradient(phi, h)
-    grads = grads if isinstance(grads, (list, tuple)) else [grads]
-    field = np.stack([phi] + list(grads), axis=-1).reshape(-1, len(lo) + 1)
-    return np.ascontiguousarray(field), lo, shape
+GUARD_POINTS_MAX = 2e7  # lattice points of one obstacle's guard field (4 doubles each in 3D: 640 MB)
 
 
-class RigidObstacle(GridStage):
-    """Base of every rigid obstacle: subclasses give ``bounds()`` and ``signed_distance(points)``."""
+class RigidObstacle(GridStage, ParticleStage):
+    """Base of every rigid obstacle: subclasses give ``bounds()``, ``signed_distance(points)`` and, where
+    they can, ``thinnest()``.
+
+    A grid stage (contact on nodes) and a particle stage (the penetration
+    guard of guard.py, after G2P); the force history is the sum of both."""
 
     Params = ObstacleParams
 
@@ -168,6 +137,10 @@ class RigidObstacle(GridStage):
         """Signed distance [m] of points (m, d), positive outside the obstacle."""
         raise NotImplementedError
 
+    def thinnest(self) -> float | None:
+        """Thickness of the obstacle's thinnest part [m], or None if unknown."""
+        return None
+
     def setup(self, scene):
         self.dim = scene.dim
         self.grid = scene.grid
@@ -175,33 +148,62 @@ class RigidObstacle(GridStage):
         if np.any(hi < scene.grid.origin) or np.any(lo > scene.grid.upper):
             raise CaseError([(self.json_path, f"obstacle '{self.label}' lies outside the grid "
                                               f"({lo} .. {hi} m against {scene.grid.origin} .. {scene.grid.upper} m)")])
-        self.field, self.lat_origin, self.lat_shape = sdf_lattice(self.signed_distance, lo, hi, scene.grid.h)
+        h = scene.grid.h
+        self.field, self.lat_origin, self.lat_shape = sdf_lattice(self.signed_distance, lo, hi, h)
+        self.thickness = self.thinnest()
+        self.guard_h = guard_spacing(h, self.thickness)
+        # the guard lattice reaches h + 2 hs beyond the obstacle: any segment that can touch it (|v| dt < h)
+        while lattice_points(lo, hi, self.guard_h, h + 2 * self.guard_h) > GUARD_POINTS_MAX:
+            self.guard_h *= 1.25
+        self.guard_field, self.guard_origin, self.guard_shape = sdf_lattice(
+            self.signed_distance, lo - h, hi + h, self.guard_h)
         v = self.params.velocity
         self.vel = np.zeros(scene.dim) if v is None else np.asarray(v, float)
         mp = self.params.moment_point
         self.moment_point = 0.5 * (lo + hi) if mp is None else np.asarray(mp, float)
         self.condition = CONDITIONS[self.params.condition]
         self.out = np.zeros(2 * scene.dim + 4)
+        self.remap_out = np.zeros_like(self.out)  # MUSL's second application: not counted
+        self.guard_out = np.zeros(2 * scene.dim + 5)
         self.force = np.zeros(scene.dim)
         self.peak = (0.0, 0.0)  # (|F|, time)
         self.nodes_in_contact = 0
+        self.particles_put_back = 0  # by the guard, over the run
+        self.max_depth = 0.0  # deepest penetration the guard corrected [m]
 
     def apply_grid(self, view, dt, time, remap):
         shift = self.vel * time
         self.nodes_in_contact = obstacle_apply(
             view.g_vel, view.g_mass, self.grid.origin, self.grid.h, view.lo, view.nloc, self.field,
             self.lat_origin, self.lat_shape, shift, self.vel, self.params.contact_layer, self.condition,
-            self.params.friction, 1.0 / dt, self.moment_point, self.out)
-        if remap:
-            return  # forces are those of the first application in the step
+            self.params.friction, 1.0 / dt, self.moment_point, self.remap_out if remap else self.out)
+        # forces are those of the first application in the step; apply_particles adds the guard's
+
+    def apply_particles(self, state, dt, time):
+        shift = self.vel * (time + dt)
+        depth = guard_particles(state.p_x, state.p_v, state.p_mass, dt, self.guard_field, self.guard_origin,
+                                self.guard_h, self.guard_shape, shift, self.vel, self.condition,
+                                self.params.friction, self.moment_point, self.guard_out)
+        self.max_depth = max(self.max_depth, depth)
+        self.particles_put_back += int(self.guard_out[-1])
         d = self.dim
-        self.force = self.out[:d].copy()
-        self.fn = self.out[d]
-        self.ft = float(np.linalg.norm(self.out[:d] - self.out[d + 1:2 * d + 1]))
-        self.moment = self.out[2 * d + 1:2 * d + 4].copy()
+        total = self.out + self.guard_out[:-1]
+        self.force = total[:d].copy()
+        self.fn = total[d]
+        self.ft = float(np.linalg.norm(total[:d] - total[d + 1:2 * d + 1]))
+        self.moment = total[2 * d + 1:2 * d + 4].copy()
         mag = float(np.linalg.norm(self.force))
         if mag > self.peak[0]:
             self.peak = (mag, time + dt)
+
+    def warnings(self) -> list[str]:
+        h = self.grid.h
+        t = self.thickness
+        if t is None or t >= 2.0 * h:
+            return []
+        return [f"obstacle '{self.label}' ({self.json_path}) is {t:.3g} m thick at its thinnest, {t / h:.2f} "
+                f"cells: grid contact alone would miss it; the particle guard keeps debris out, but the "
+                f"contact force is resolved only with grid.cell_size <= {t / 2:.3g} m (two cells across)"]
 
     def series(self):
         names = "xyz"[: self.dim]
@@ -216,14 +218,19 @@ class RigidObstacle(GridStage):
 
     def summary(self) -> str:
         unit = "N" if self.dim == 3 else "N/m"
-        return f"obstacle '{self.label}': peak force {self.peak[0]:.4g} {unit} at t = {self.peak[1]:.4g} s"
+        guard = (f"; {self.particles_put_back} particle corrections by the guard (deepest {self.max_depth:.3g} m "
+                 f"= {self.max_depth / self.grid.h:.2f} h before correction)" if self.particles_put_back else "")
+        return f"obstacle '{self.label}': peak force {self.peak[0]:.4g} {unit} at t = {self.peak[1]:.4g} s{guard}"
 
     def state_dict(self) -> dict:
         return {"peak": list(self.peak), "force": self.force.tolist(), "fn": float(getattr(self, "fn", 0.0)),
-                "ft": float(getattr(self, "ft", 0.0)), "moment": np.asarray(getattr(self, "moment", np.zeros(3))).tolist()}
+                "ft": float(getattr(self, "ft", 0.0)), "moment": np.asarray(getattr(self, "moment", np.zeros(3))).tolist(),
+                "particles_put_back": self.particles_put_back, "max_depth": self.max_depth}
 
     def load_state(self, state: dict) -> None:
         self.peak = tuple(state["peak"])
         self.force = np.asarray(state["force"], float)
         self.fn, self.ft = state["fn"], state["ft"]
         self.moment = np.asarray(state["moment"], float)
+        self.particles_put_back = int(state.get("particles_put_back", 0))
+        self.max_depth = float(state.get("max_depth", 0.0))

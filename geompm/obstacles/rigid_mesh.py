@@ -58,6 +58,21 @@ class RigidMesh(RigidObstacle):
         lo, hi = self.mesh.bounds
         return np.asarray(lo, float), np.asarray(hi, float)
 
+    def thinnest(self):
+        """The mesh's thinnest part: from each face centre a ray into the solid (against the outward normal)
+        to the next face; the smallest such chord [m].  Exact for prisms and plates whose faces are parallel."""
+        from trimesh.ray.ray_triangle import RayMeshIntersector
+
+        m = self.mesh
+        eps = 1e-9 * float(m.scale)
+        origins = m.triangles_center - eps * m.face_normals
+        _, rays, hits = RayMeshIntersector(m).intersects_id(origins, -m.face_normals, multiple_hits=False,
+                                                              return_locations=True)
+        if len(rays) == 0:
+            return None
+        chords = np.linalg.norm(hits - origins[rays], axis=1)
+        return float(chords.min()) if len(chords) else None
+
     def signed_distance(self, pts):
         import trimesh
 
