@@ -16,7 +16,7 @@ from pathlib import Path
 from . import __version__, registry
 from .errors import CaseError, SimulationError
 from .fileio import atomic_write_text
-from .ownership import MARKER, create_folder, mark_folder, may_write, owned_kind, remove_tree
+from .ownership import create_folder, mark_folder, marked_kind, may_write, owned_kind, remove_tree
 from .bench.command import add_parser as bench_parser
 from .study.calibrate import add_parser as calibrate_parser
 from .study.command import add_parser as study_parser
@@ -116,8 +116,10 @@ def _run_folder(args, loaded, scene) -> Path:
         if not _same_case(json.loads(saved.read_text()), loaded.raw):
             raise CaseError([("--resume", f"the case differs from the one '{run_dir}' was started with "
                                           "(only time.end may change on --resume); use that case.json")])
-        if owned_kind(run_dir) is None and (run_dir / "checkpoints").is_dir() and not (run_dir / MARKER).exists():
-            mark_folder(run_dir, "run", adopted=True)  # a run folder of a geompm without markers
+        if owned_kind(run_dir) != "run" and (run_dir / "checkpoints").is_dir() and marked_kind(run_dir) in (None, "run"):
+            # a run folder of a geompm without markers, or one the user moved: continuing it there makes it
+            # this run's folder again (it rotates its checkpoints)
+            mark_folder(run_dir, "run", adopted=True)
         return run_dir
     run_dir = Path(args.out) if args.out else Path("runs") / scene.name
     if run_dir.exists() and (not run_dir.is_dir() or any(run_dir.iterdir())):

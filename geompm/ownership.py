@@ -58,6 +58,12 @@ def owned_kind(folder: str | Path) -> str | None:
     return mark.get("kind")
 
 
+def marked_kind(folder: str | Path) -> str | None:
+    """The kind its marker names, wherever the marker was written (None without a marker)."""
+    mark = _marker_of(Path(folder))
+    return None if mark is None else mark.get("kind")
+
+
 def mark_folder(folder: str | Path, kind: str, adopted: bool = False) -> None:
     """Write the marker that makes ``folder`` a geompm output folder of ``kind``."""
     assert kind in KINDS, kind

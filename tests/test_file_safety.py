@@ -192,3 +192,18 @@ def test_one_delete_helper():
                     attr == "remove" and isinstance(owner, ast.Name) and owner.id == "os"):
                 offenders.append(f"{src.relative_to(pkg)}:{node.lineno} .{attr}()")
     assert not offenders, offenders
+
+
+def test_resume_of_a_moved_run_folder_takes_it_over(user_tree):
+    """A run folder moved elsewhere and resumed there is marked for its new path (it rotates checkpoints
+    there); a copied folder that is not resumed stays someone else's (see the copy test above)."""
+    import shutil
+
+    root, case, _ = user_tree
+    assert main(["run", str(case), "--out", "made", "--quiet", "--set", "outputs=[]"]) == 0
+    shutil.move(root / "made", root / "moved")
+    assert owned_kind(root / "moved") is None
+    assert main(["run", str(case), "--set", "outputs=[]", "--set", "time.end=0.08", "--resume", "moved",
+                 "--quiet"]) == 0
+    assert owned_kind(root / "moved") == "run"
+    assert json.loads((root / "moved" / MARKER).read_text())["adopted"] is True

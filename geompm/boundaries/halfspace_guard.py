@@ -12,17 +12,17 @@ without ending behind it, so the end position is the whole test.
 
 from __future__ import annotations
 
-from numba import njit, prange
+from numba import njit
 
 from .contact import apply_condition
 
 
-@njit(parallel=True, cache=True)
+@njit(cache=True)  # serial: one dot product per particle
 def halfspace_guard(p_x, p_v, point, normal, condition, mu):
     """Put back the particles behind the plane through ``point`` with unit ``normal``; returns how many."""
     n, d = p_x.shape
     count = 0
-    for p in prange(n):
+    for p in range(n):
         phi = 0.0
         for a in range(d):
             phi += (p_x[p, a] - point[a]) * normal[a]

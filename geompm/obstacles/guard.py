@@ -31,7 +31,7 @@ any segment that can reach the obstacle (|v| dt <= cfl h < h) lies inside it.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from ..boundaries.contact import apply_condition
 from .sdf_field import interp_field
@@ -55,15 +55,13 @@ def _inside_lattice(x, lo, hi):
     return True
 
 
-@njit(parallel=True, cache=True)
+@njit(cache=True)
 def guard_particles(p_x, p_v, p_mass, dt, field, lat_origin, hs, lat_shape, shift, vel, condition, mu,
                     moment_point, out):
     """Put back every particle inside or through the obstacle; out as in base.obstacle_apply, plus
     out[2d+4] = particles corrected.  Returns the largest depth [m] found before correction."""
     n, d = p_x.shape
     k = out.shape[0]
-    nchunks = max(1, min(n, 64))
-    partial = np.zeros((nchunks, k + 1))
     inv_hs = 1.0 / hs
     inv_dt = 1.0 / dt
     lo = np.empty(d)
@@ -71,113 +69,108 @@ def guard_particles(p_x, p_v, p_mass, dt, field, lat_origin, hs, lat_shape, shif
     for a in range(d):
         lo[a] = lat_origin[a]
         hi[a] = lat_origin[a] + (lat_shape[a] - 1) * hs
-    for ch in prange(nchunks):
-        x = np.empty(d)
-        xo = np.empty(d)
-        y = np.empty(d)
-        normal = np.empty(d)
-        base = np.empty(d, np.int64)
-        frac = np.empty(d)
-        val = np.empty(d + 1)
-        acc = partial[ch]
-        for p in range(ch * n // nchunks, (ch + 1) * n // nchunks):
-            for a in range(d):
-                x[a] = p_x[p, a] - shift[a]
-                xo[a] = x[a] - dt * p_v[p, a]
-            if not _inside_lattice(x, lo, hi):
-                continue
-            phi = _phi(field, lat_origin, inv_hs, lat_shape, x, base, frac, val)
-            hit = False
-            if phi < 0.0:
-                hit = True
-                acc[k] = max(acc[k], -phi)
-                for _ in range(2):  # project onto phi = 0 along the gradient
-                    g2 = 0.0
-                    for a in range(d):
-                        g2 += val[1 + a] * val[1 + a]
-                    if g2 == 0.0:
-                        break
-                    for a in range(d):
-                        x[a] -= phi * val[1 + a] / g2
-                    phi = _phi(field, lat_origin, inv_hs, lat_shape, x, base, frac, val)
-            elif _inside_lattice(xo, lo, hi):
-                seg = 0.0
+    x = np.empty(d)
+    xo = np.empty(d)
+    y = np.empty(d)
+    normal = np.empty(d)
+    base = np.empty(d, np.int64)
+    frac = np.empty(d)
+    val = np.empty(d + 1)
+    acc = np.zeros(k + 1)  # out's entries, then the deepest penetration
+    # serial: almost every particle leaves at the bounding-box test, and it compiles fast
+    for p in range(n):
+        for a in range(d):
+            x[a] = p_x[p, a] - shift[a]
+            xo[a] = x[a] - dt * p_v[p, a]
+        if not _inside_lattice(x, lo, hi):
+            continue
+        phi = _phi(field, lat_origin, inv_hs, lat_shape, x, base, frac, val)
+        hit = False
+        if phi < 0.0:
+            hit = True
+            acc[k] = max(acc[k], -phi)
+            for _ in range(2):  # project onto phi = 0 along the gradient
+                g2 = 0.0
                 for a in range(d):
-                    seg += (x[a] - xo[a]) ** 2
-                seg = np.sqrt(seg)
-                phi0 = _phi(field, lat_origin, inv_hs, lat_shape, xo, base, frac, val)
-                if seg > 0.0 and -hs < phi0 < seg:  # a start on the surface (phi0 ~ 0) is marched too
-                    t_out, t = 0.0, 0.0
-                    cur = max(phi0, 0.0)
-                    while t < 1.0:
-                        t_out = t
-                        t = min(1.0, t + max(cur, MIN_STEP * hs) / seg)
+                    g2 += val[1 + a] * val[1 + a]
+                if g2 == 0.0:
+                    break
+                for a in range(d):
+                    x[a] -= phi * val[1 + a] / g2
+                phi = _phi(field, lat_origin, inv_hs, lat_shape, x, base, frac, val)
+        elif _inside_lattice(xo, lo, hi):
+            seg = 0.0
+            for a in range(d):
+                seg += (x[a] - xo[a]) ** 2
+            seg = np.sqrt(seg)
+            phi0 = _phi(field, lat_origin, inv_hs, lat_shape, xo, base, frac, val)
+            if seg > 0.0 and -hs < phi0 < seg:  # a start on the surface (phi0 ~ 0) is marched too
+                t_out, t = 0.0, 0.0
+                cur = max(phi0, 0.0)
+                while t < 1.0:
+                    t_out = t
+                    t = min(1.0, t + max(cur, MIN_STEP * hs) / seg)
+                    for a in range(d):
+                        y[a] = xo[a] + t * (x[a] - xo[a])
+                    cur = _phi(field, lat_origin, inv_hs, lat_shape, y, base, frac, val)
+                    if cur < 0.0:
+                        hit = True
+                        break
+                if hit:
+                    t_in = t
+                    for _ in range(BISECTIONS):
+                        tm = 0.5 * (t_out + t_in)
                         for a in range(d):
-                            y[a] = xo[a] + t * (x[a] - xo[a])
-                        cur = _phi(field, lat_origin, inv_hs, lat_shape, y, base, frac, val)
-                        if cur < 0.0:
-                            hit = True
-                            break
-                    if hit:
-                        t_in = t
-                        for _ in range(BISECTIONS):
-                            tm = 0.5 * (t_out + t_in)
-                            for a in range(d):
-                                y[a] = xo[a] + tm * (x[a] - xo[a])
-                            if _phi(field, lat_origin, inv_hs, lat_shape, y, base, frac, val) < 0.0:
-                                t_in = tm
-                            else:
-                                t_out = tm
-                        for a in range(d):
-                            x[a] = xo[a] + t_out * (x[a] - xo[a])
-                        _phi(field, lat_origin, inv_hs, lat_shape, x, base, frac, val)
-            if not hit:
-                continue
-            norm = 0.0
-            for a in range(d):
-                normal[a] = val[1 + a]
-                norm += normal[a] * normal[a]
-            m = p_mass[p]
-            for a in range(d):
-                p_x[p, a] = x[a] + shift[a]
-            if norm == 0.0:
-                continue
-            norm = np.sqrt(norm)
-            fn = 0.0
-            for a in range(d):
-                normal[a] /= norm
-                y[a] = p_v[p, a]  # velocity before
-                p_v[p, a] -= vel[a]
-            apply_condition(p_v, p, normal, condition, mu)
-            for a in range(d):
-                p_v[p, a] += vel[a]
-                f = -m * (p_v[p, a] - y[a]) * inv_dt
-                acc[a] += f
-                fn -= f * normal[a]
-            acc[d] += fn
-            for a in range(d):
-                acc[d + 1 + a] -= fn * normal[a]
-            r0 = x[0] + shift[0] - moment_point[0]
-            r1 = x[1] + shift[1] - moment_point[1]
-            f0 = -m * (p_v[p, 0] - y[0]) * inv_dt
-            f1 = -m * (p_v[p, 1] - y[1]) * inv_dt
-            if d == 3:
-                r2 = x[2] + shift[2] - moment_point[2]
-                f2 = -m * (p_v[p, 2] - y[2]) * inv_dt
-                acc[2 * d + 1] += r1 * f2 - r2 * f1
-                acc[2 * d + 2] += r2 * f0 - r0 * f2
-                acc[2 * d + 3] += r0 * f1 - r1 * f0
-            else:
-                acc[2 * d + 3] += r0 * f1 - r1 * f0
-            acc[2 * d + 4] += 1.0
-    depth = 0.0
+                            y[a] = xo[a] + tm * (x[a] - xo[a])
+                        if _phi(field, lat_origin, inv_hs, lat_shape, y, base, frac, val) < 0.0:
+                            t_in = tm
+                        else:
+                            t_out = tm
+                    for a in range(d):
+                        x[a] = xo[a] + t_out * (x[a] - xo[a])
+                    _phi(field, lat_origin, inv_hs, lat_shape, x, base, frac, val)
+        if not hit:
+            continue
+        norm = 0.0
+        for a in range(d):
+            normal[a] = val[1 + a]
+            norm += normal[a] * normal[a]
+        m = p_mass[p]
+        for a in range(d):
+            p_x[p, a] = x[a] + shift[a]
+        if norm == 0.0:
+            continue
+        norm = np.sqrt(norm)
+        fn = 0.0
+        for a in range(d):
+            normal[a] /= norm
+            y[a] = p_v[p, a]  # velocity before
+            p_v[p, a] -= vel[a]
+        apply_condition(p_v, p, normal, condition, mu)
+        for a in range(d):
+            p_v[p, a] += vel[a]
+            f = -m * (p_v[p, a] - y[a]) * inv_dt
+            acc[a] += f
+            fn -= f * normal[a]
+        acc[d] += fn
+        for a in range(d):
+            acc[d + 1 + a] -= fn * normal[a]
+        r0 = x[0] + shift[0] - moment_point[0]
+        r1 = x[1] + shift[1] - moment_point[1]
+        f0 = -m * (p_v[p, 0] - y[0]) * inv_dt
+        f1 = -m * (p_v[p, 1] - y[1]) * inv_dt
+        if d == 3:
+            r2 = x[2] + shift[2] - moment_point[2]
+            f2 = -m * (p_v[p, 2] - y[2]) * inv_dt
+            acc[2 * d + 1] += r1 * f2 - r2 * f1
+            acc[2 * d + 2] += r2 * f0 - r0 * f2
+            acc[2 * d + 3] += r0 * f1 - r1 * f0
+        else:
+            acc[2 * d + 3] += r0 * f1 - r1 * f0
+        acc[2 * d + 4] += 1.0
     for j in range(k):
-        out[j] = 0.0
-    for ch in range(nchunks):
-        for j in range(k):
-            out[j] += partial[ch, j]
-        depth = max(depth, partial[ch, k])
-    return depth
+        out[j] = acc[j]
+    return acc[k]
 
 
 def guard_spacing(h: float, thinnest: float | None) -> float:

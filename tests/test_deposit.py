@@ -1,0 +1,46 @@
+"""The deposit measures of geompm/study/deposit.py on deposits whose answer is known in closed form.
+
+A rectangle L x H of particles on a regular lattice (any spacing): thickness H
+everywhere, front at L (to the sampling step), height H; a wedge of slope
+H/L (a triangle) has t(x) = H (1 - x/L), so its front at threshold f H is at
+(1 - f) L; a lone particle far ahead of the deposit does not move the front
+(the furthest particle would), as long as one particle layer is thinner than
+the threshold.
+"""
+
+import numpy as np
+import pytest
+
+from geompm.study.deposit import deposit_front, deposit_height, thickness_profile
+
+
+def _lattice(L, H, s):
+    xs, ys = np.meshgrid(np.arange(0.5 * s, L, s), np.arange(0.5 * s, H, s), indexing="ij")
+    pts = np.stack([xs.ravel(), ys.ravel()], axis=1)
+    return pts, np.full(len(pts), s * s)
+
+
+@pytest.mark.parametrize("s", [0.01, 0.005, 0.0025])
+def test_rectangle_front_and_height_at_any_spacing(s):
+    x, a = _lattice(0.3, 0.1, s)
+    assert deposit_height(x, a, 0.0005) == pytest.approx(0.1, rel=1e-9)
+    assert deposit_front(x, a, 0.005, 0.0005) == pytest.approx(0.3, abs=0.0005)
+    _, t = thickness_profile(x, a, 0.0005)
+    assert np.median(t) == pytest.approx(0.1, rel=1e-9)
+
+
+def test_wedge_front_follows_the_threshold():
+    s = 0.0025
+    x, a = _lattice(0.4, 0.1, s)
+    keep = x[:, 1] <= 0.1 * (1.0 - x[:, 0] / 0.4)
+    for f in (0.05, 0.25, 0.5):
+        assert deposit_front(x[keep], a[keep], f * 0.1, 0.0005) == pytest.approx((1 - f) * 0.4, abs=3 * s)
+
+
+def test_an_outlier_does_not_move_the_front():
+    """Valid while one particle layer is thinner than the threshold (here 2.5 mm against 5 mm)."""
+    x, a = _lattice(0.3, 0.1, 0.0025)
+    x = np.vstack([x, [[0.6, 0.00125]]])
+    a = np.append(a, 0.0025 ** 2)
+    assert deposit_front(x, a, 0.005, 0.0005) == pytest.approx(0.3, abs=0.0005)
+    assert x[:, 0].max() == pytest.approx(0.6)
