@@ -120,8 +120,8 @@ def _paths(node, prefix=()):
             yield from _paths(v, prefix + (i,))
 
 
-@st.composite
-def mutated_cases(draw):
+def _mutate(draw, leaf, actions):
+    """tiny_case with 1-3 mutations: replace a value anywhere by a draw of ``leaf``, delete a key, add one."""
     case = tiny_case()
     paths = [p for p in _paths(case) if p]
     for _ in range(draw(st.integers(1, 3))):
@@ -130,16 +130,21 @@ def mutated_cases(draw):
         try:
             for k in path[:-1]:
                 node = node[k]
-            action = draw(st.sampled_from(["replace", "delete", "add"]))
+            action = draw(st.sampled_from(actions))
             if action == "replace":
-                node[path[-1]] = draw(_LEAF)
+                node[path[-1]] = draw(leaf)
             elif action == "delete" and isinstance(node, dict):
                 del node[path[-1]]
             elif isinstance(node, dict):
-                node[draw(st.text(min_size=1, max_size=6))] = draw(_LEAF)
+                node[draw(st.text(min_size=1, max_size=6))] = draw(leaf)
         except (KeyError, IndexError, TypeError):
             pass  # an earlier mutation changed the shape above this path
     return case
+
+
+@st.composite
+def mutated_cases(draw):
+    return _mutate(draw, _LEAF, ["replace", "delete", "add"])
 
 
 @settings(max_examples=250, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -191,18 +196,7 @@ def _hostile_inside(node, depth=0) -> bool:
 
 @st.composite
 def hostile_cases(draw):
-    case = tiny_case()
-    paths = [p for p in _paths(case) if p]
-    for _ in range(draw(st.integers(1, 3))):
-        path = draw(st.sampled_from(paths))
-        node = case
-        try:
-            for k in path[:-1]:
-                node = node[k]
-            node[path[-1]] = draw(_HOSTILE)
-        except (KeyError, IndexError, TypeError):
-            pass
-    return case
+    return _mutate(draw, _HOSTILE, ["replace", "add"])
 
 
 def _validate_exit(tmp_path, case, sets=()) -> tuple[int, str]:
