@@ -356,6 +356,12 @@ def build_parser() -> argparse.ArgumentParser:
     return ap
 
 
+def _one_line(text: str) -> str:
+    """``text`` with every non-printable character (newlines, U+0085, U+2028, controls) escaped, so that
+    one problem is one line whatever keys and values a case holds."""
+    return "".join(c if c.isprintable() else ascii(c)[1:-1] for c in str(text))
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     try:
@@ -364,7 +370,7 @@ def main(argv=None) -> int:
         refused = all(path.startswith("--") for path, _ in exc.problems)
         print("error: refused:" if refused else "error: the case is not valid:", file=sys.stderr)
         for path, msg in exc.problems:
-            print(f"  {path or '<case>'}: {msg}", file=sys.stderr)
+            print(f"  {_one_line(path) or '<case>'}: {_one_line(msg)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("interrupted; output written so far is kept", file=sys.stderr)
