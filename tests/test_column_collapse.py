@@ -22,8 +22,8 @@ from .conftest import CASES
 L0, H0, RHO = 0.2, 0.1, 2650.0
 
 
-def _run(case):
-    sim = Simulation(scene_from_file(CASES / case))
+def _run(case, sets=()):
+    sim = Simulation(scene_from_file(CASES / case, sets))
     st = sim.state
     end = sim.scene.end_time
     mass0 = st.p_mass.sum()
@@ -58,8 +58,17 @@ def test_drucker_prager_column_matches_lube_scaling():
     assert height / H0 == pytest.approx(1.0, abs=0.1)
 
 
+# The Cross case's explicit viscous step rho h^2 / (4 mu_0) makes it the suite's slowest test: 636 000 steps,
+# 257 s on 2 cores at its own h = 0.01 m (issue 14).  At h = 0.02 m with the same parameters the step is 4x
+# longer; the coarser column creeps longer (kinetic energy 1.6e-3 of its peak at 3.5 s, 9.6e-4 at 5 s), so
+# it runs to 5.5 s: 250 000 steps, about 70 s, for the same assertions (rest, mass, finite runout).
+CROSS_CHEAPER = ("grid.cell_size=0.02", "time.end=5.5", "outputs=[]")
+
+
 @pytest.mark.slow
 def test_cross_column_comes_to_rest():
-    sim, mass0, ke_peak, hist = _run("column_collapse_cross.json")
+    """cases/column_collapse_cross.json at h = 0.02 m, to t = 5.5 s: at rest (kinetic energy below 1e-3 of
+    its peak, front still within 0.2 h over the last 0.2 s), mass kept exactly, runout between L0 and 3 L0."""
+    sim, mass0, ke_peak, hist = _run("column_collapse_cross.json", CROSS_CHEAPER)
     runout = _common(sim, mass0, ke_peak, hist)
     assert L0 < runout < 0.6
