@@ -44,3 +44,43 @@ def test_an_outlier_does_not_move_the_front():
     a = np.append(a, 0.0025 ** 2)
     assert deposit_front(x, a, 0.005, 0.0005) == pytest.approx(0.3, abs=0.0005)
     assert x[:, 0].max() == pytest.approx(0.6)
+
+
+def test_series_writes_the_deposit_front_and_study_takes_it_as_runout(tmp_path):
+    """A run with the series writer's deposit_threshold writes deposit_front; a particle that a --set puts
+    far ahead moves front_x but not deposit_front, and scalar_metrics reports deposit_front as runout."""
+    import json
+
+    from geompm.cli import main
+    from geompm.study import metrics as M
+
+    from .conftest import tiny_case
+
+    case = tiny_case(outputs=[{"writer": "series", "interval": 0.0, "deposit_threshold": 0.15}])
+    case["time"]["end"] = 0.01
+    case["bodies"].append({"material": "soil", "geometry": {"type": "box", "min": [0.8, 0.0], "max": [0.9, 0.1]},
+                           "particles_per_cell": 1})
+    f = tmp_path / "c.json"
+    f.write_text(json.dumps(case))
+    assert main(["run", str(f), "--out", str(tmp_path / "run"), "--quiet"]) == 0
+    series, status = M.read_run(tmp_path / "run")
+    assert series["front_x"][-1] > 0.8  # the lone particle: 0.1 m thick alone, below the 0.15 m threshold
+    assert series["deposit_front"][-1] == pytest.approx(0.6, abs=0.02)  # the 0.2-0.6 m block, 0.4 m thick
+    assert M.scalar_metrics(series, status)["runout"] == series["deposit_front"][-1]
+
+
+def test_deposit_threshold_is_refused_in_3d(tmp_path, capsys):
+    import json
+
+    from geompm.cli import main
+
+    from .conftest import CASES
+
+    case = json.loads((CASES / "debris_obstacle.json").read_text())
+    case["outputs"] = [{"writer": "series", "deposit_threshold": 0.01}]
+    f = tmp_path / "c.json"
+    f.write_text(json.dumps(case))
+    (tmp_path / "meshes").mkdir()
+    (tmp_path / "meshes" / "check_dam.stl").write_bytes((CASES / "meshes" / "check_dam.stl").read_bytes())
+    assert main(["validate", str(f)]) == 2
+    assert "outputs.0.deposit_threshold: the deposit front is defined for 2D" in capsys.readouterr().err

@@ -1,7 +1,9 @@
 """What a study measures in each run, and how far it is from a reference.
 
 Scalar metrics (one number per run):
-- ``runout``: ``front_x`` [m] at the last row of series.csv;
+- ``runout``: ``deposit_front`` [m] at the last row of series.csv when the
+  series writer has ``deposit_threshold`` (a thickness front, robust to
+  outlier particles), else ``front_x`` (the furthest particle);
 - ``peak_force:LABEL``: the largest |F| [N; N/m in 2D] on obstacle LABEL, taken
   every step (status.json), not only at output times;
 - ``impulse:LABEL``: the integral of |F| over the run [N s; N s/m in 2D],
@@ -49,8 +51,9 @@ def force_magnitude(series: dict, label: str) -> np.ndarray:
 
 def scalar_metrics(series: dict, status: dict | None = None) -> dict[str, float]:
     out = {}
-    if "front_x" in series and len(series["front_x"]):
-        out["runout"] = float(series["front_x"][-1])
+    front = "deposit_front" if "deposit_front" in series else "front_x"  # the robust front when written
+    if front in series and len(series[front]):
+        out["runout"] = float(series[front][-1])
     peaks = (status or {}).get("obstacles", {})
     for label in obstacle_labels(series):
         f = force_magnitude(series, label)

@@ -10,7 +10,9 @@ granular-flow studies (e.g. the source study, section 3.1):
 with x_front the largest (x_p - origin) . direction (the front measured along
 the slope from the column's back), m the total mass and g = |gravity|.  Each
 row is written with one call and flushed, so a crash loses at most the row
-being written.
+being written.  With ``deposit_threshold`` (2D) it adds ``deposit_front`` [m],
+the largest x where the deposit is at least that thick (geompm.study.deposit:
+a front that one particle rolling ahead cannot move).
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ from pydantic import Field
 
 from ..kernels.reduce import max_projection
 from ..plugin import Params
+from ..study.deposit import deposit_front
 from .base import Writer
 
 
@@ -34,6 +37,9 @@ class Normalise(Params):
 
 class SeriesParams(Params):
     normalise: Normalise | None = Field(None, description="Add T_star, X_star, K_star columns")
+    deposit_threshold: float | None = Field(
+        None, gt=0, description="2D: add the column deposit_front [m], the largest x where the deposit is at "
+        "least this thick [m] (geompm.study.deposit; e.g. 0.05 H0); geompm study then takes it as the runout")
 
 
 class SeriesWriter(Writer):
@@ -43,11 +49,14 @@ class SeriesWriter(Writer):
 
     @classmethod
     def check(cls, params, case):
+        out = []
+        if params.deposit_threshold is not None and case.dimension != 2:
+            out.append(("deposit_threshold", "the deposit front is defined for 2D (plane-strain) cases only"))
         nm = params.normalise
         if nm is None:
-            return []
-        return [(f"normalise.{k}", f"must have {case.dimension} entries (one per dimension)")
-                for k in ("origin", "direction") if len(getattr(nm, k)) != case.dimension]
+            return out
+        return out + [(f"normalise.{k}", f"must have {case.dimension} entries (one per dimension)")
+                      for k in ("origin", "direction") if len(getattr(nm, k)) != case.dimension]
 
     def _row(self, sim):
         row = sim.series_row()
@@ -59,7 +68,19 @@ class SeriesWriter(Writer):
             row["T_star"] = sim.time * np.sqrt(g / nm.height)
             row["X_star"] = (front - nm.length) / nm.length
             row["K_star"] = row["kinetic_energy"] / (self.mass * g * nm.height)
+        if self.params.deposit_threshold is not None:
+            t = self.params.deposit_threshold
+            row["deposit_front"] = deposit_front(sim.state.p_x, self._solid_areas(sim), t, 0.2 * t)
         return row
+
+    @staticmethod
+    def _solid_areas(sim):
+        """m_p / rho0 of each particle: a particle whose volume grew as it left the flow counts as solid."""
+        st = sim.state
+        rho0 = np.empty(st.n)
+        for mat, (s, e) in zip(sim.scene.materials, st.blocks):
+            rho0[s:e] = mat.density
+        return st.p_mass / rho0
 
     def _setup(self, run_dir, sim):
         nm = self.params.normalise
