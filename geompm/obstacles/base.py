@@ -25,10 +25,11 @@ import numpy as np
 from numba import njit
 from pydantic import Field
 
-from ..boundaries.contact import CONDITIONS, apply_condition
+from ..boundaries.contact import CONDITIONS
 from ..errors import CaseError
 from ..plugin import Params, vector_length_problems
 from ..stages import GridStage, ParticleStage
+from .contact_force import contact_and_record
 from .guard import guard_particles, guard_spacing, lattice_points
 from .sdf_field import interp_field, sdf_lattice
 
@@ -80,36 +81,11 @@ def obstacle_apply(g_vel, g_mass, origin, h, lo, nloc, field, lat_origin, lat_sh
         interp_field(field, lat_origin, inv_h, lat_shape, x, base, frac, val)
         if val[0] > layer:
             continue
-        norm = 0.0
         for a in range(d):
             normal[a] = val[1 + a]
-            norm += normal[a] * normal[a]
-        if norm == 0.0:
+        if not contact_and_record(g_vel, idx, normal, vel, condition, mu, m, inv_dt, x, shift, moment_point,
+                                  before, f, out):
             continue
-        norm = np.sqrt(norm)
-        for a in range(d):
-            normal[a] /= norm
-            before[a] = g_vel[idx, a]
-            g_vel[idx, a] -= vel[a]
-        apply_condition(g_vel, idx, normal, condition, mu)
-        fn = 0.0
-        for a in range(d):
-            g_vel[idx, a] += vel[a]
-            f[a] = -m * (g_vel[idx, a] - before[a]) * inv_dt  # force on the obstacle
-            out[a] += f[a]
-            fn += -f[a] * normal[a]  # normal points out of the obstacle: pushing in is positive
-        out[d] += fn
-        for a in range(d):
-            out[d + 1 + a] += -fn * normal[a]
-        r0 = x[0] + shift[0] - moment_point[0]
-        r1 = x[1] + shift[1] - moment_point[1]
-        if d == 3:
-            r2 = x[2] + shift[2] - moment_point[2]
-            out[2 * d + 1] += r1 * f[2] - r2 * f[1]
-            out[2 * d + 2] += r2 * f[0] - r0 * f[2]
-            out[2 * d + 3] += r0 * f[1] - r1 * f[0]
-        else:
-            out[2 * d + 3] += r0 * f[1] - r1 * f[0]
         count += 1
     return count
 

@@ -12,16 +12,15 @@ part):
    back on the surface, x <- x - phi(x) n (two projection steps), n the unit
    gradient of phi;
 2. otherwise the segment it travelled this step, from x - dt v to x, is
-   marched with steps of at most max(phi, hs / 4) (never more than the
-   distance to the surface, never less than hs / 4); if phi < 0 anywhere on
+   marched in steps of max(phi, hs / 4): the distance to the surface, but
+   never less than hs / 4; if phi < 0 anywhere on
    it the particle crossed a thin part within the step, and it is put on the
    entry side's surface point, found by bisection.
 
-A particle that was put back gets the contact rule of boundaries/contact.py
-on its velocity relative to the obstacle (slip, fixed, or Coulomb friction),
-and the momentum that removed, -m (v_after - v_before) / dt, is added to the
-obstacle's force, normal force and moment, so the force history holds every
-correction.  The segment start x - dt v is the exact start of the step for
+A particle that was put back gets the contact rule on its velocity relative
+to the obstacle and adds the momentum that removed to the obstacle's force,
+normal force and moment (contact_force.py, the same code as the grid
+contact), so the force history holds every correction.  The segment start x - dt v is the exact start of the step for
 PIC, APIC and MLS under USL (the particle moves with its new velocity); for
 FLIP and MUSL it is an approximation of the path (the end-point test is exact
 for every scheme).  The lattice covers the obstacle's bounds plus h + 2 hs, so
@@ -33,7 +32,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..boundaries.contact import apply_condition
+from .contact_force import contact_and_record
 from .sdf_field import interp_field
 
 GUARD_REFINE = 4  # lattice spacing at most h / GUARD_REFINE
@@ -72,6 +71,7 @@ def guard_particles(p_x, p_v, p_mass, dt, field, lat_origin, hs, lat_shape, shif
     x = np.empty(d)
     xo = np.empty(d)
     y = np.empty(d)
+    f = np.empty(d)
     normal = np.empty(d)
     base = np.empty(d, np.int64)
     frac = np.empty(d)
@@ -131,42 +131,12 @@ def guard_particles(p_x, p_v, p_mass, dt, field, lat_origin, hs, lat_shape, shif
                     _phi(field, lat_origin, inv_hs, lat_shape, x, base, frac, val)
         if not hit:
             continue
-        norm = 0.0
         for a in range(d):
             normal[a] = val[1 + a]
-            norm += normal[a] * normal[a]
-        m = p_mass[p]
-        for a in range(d):
             p_x[p, a] = x[a] + shift[a]
-        if norm == 0.0:
+        if not contact_and_record(p_v, p, normal, vel, condition, mu, p_mass[p], inv_dt, x, shift, moment_point,
+                                  y, f, acc):
             continue
-        norm = np.sqrt(norm)
-        fn = 0.0
-        for a in range(d):
-            normal[a] /= norm
-            y[a] = p_v[p, a]  # velocity before
-            p_v[p, a] -= vel[a]
-        apply_condition(p_v, p, normal, condition, mu)
-        for a in range(d):
-            p_v[p, a] += vel[a]
-            f = -m * (p_v[p, a] - y[a]) * inv_dt
-            acc[a] += f
-            fn -= f * normal[a]
-        acc[d] += fn
-        for a in range(d):
-            acc[d + 1 + a] -= fn * normal[a]
-        r0 = x[0] + shift[0] - moment_point[0]
-        r1 = x[1] + shift[1] - moment_point[1]
-        f0 = -m * (p_v[p, 0] - y[0]) * inv_dt
-        f1 = -m * (p_v[p, 1] - y[1]) * inv_dt
-        if d == 3:
-            r2 = x[2] + shift[2] - moment_point[2]
-            f2 = -m * (p_v[p, 2] - y[2]) * inv_dt
-            acc[2 * d + 1] += r1 * f2 - r2 * f1
-            acc[2 * d + 2] += r2 * f0 - r0 * f2
-            acc[2 * d + 3] += r0 * f1 - r1 * f0
-        else:
-            acc[2 * d + 3] += r0 * f1 - r1 * f0
         acc[2 * d + 4] += 1.0
     for j in range(k):
         out[j] = acc[j]
