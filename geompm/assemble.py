@@ -35,6 +35,7 @@ class Scene:
     dt_fixed: float | None
     transfer_mode: int
     flip_ratio: float
+    flip_tau: float | None  # FLIP relaxation time [s]: ratio exp(-dt/tau) per step instead of flip_ratio
     musl: bool
     apic_dinv: float
     nu_max: float
@@ -183,6 +184,7 @@ def assemble(loaded: LoadedCase) -> Scene:
         end_time=case.time.end, cfl=case.time.cfl, dt_max=case.time.dt_max, dt_fixed=case.time.dt,
         dt_min=case.time.dt_min, run_options=case.run,
         transfer_mode=TRANSFER_MODE[case.solver.transfer], flip_ratio=case.solver.flip_ratio,
+        flip_tau=case.solver.flip_relaxation_time,
         musl=case.solver.update == "musl",
         apic_dinv=(1.0 / (APIC_D_FACTOR[kind] * h * h)) if APIC_D_FACTOR[kind] > 0 else 0.0,
         nu_max=max((m.kinematic_viscosity() for m in materials), default=0.0),

@@ -23,7 +23,7 @@ def _lattice(L, H, s):
 @pytest.mark.parametrize("s", [0.01, 0.005, 0.0025])
 def test_rectangle_front_and_height_at_any_spacing(s):
     x, a = _lattice(0.3, 0.1, s)
-    assert deposit_height(x, a, 0.0005) == pytest.approx(0.1, rel=1e-9)
+    assert deposit_height(x, a, 0.0005, 0.005) == pytest.approx(0.1, rel=1e-9)
     assert deposit_front(x, a, 0.005, 0.0005) == pytest.approx(0.3, abs=0.0005)
     _, t = thickness_profile(x, a, 0.0005)
     assert np.median(t) == pytest.approx(0.1, rel=1e-9)
@@ -84,3 +84,13 @@ def test_deposit_threshold_is_refused_in_3d(tmp_path, capsys):
     (tmp_path / "meshes" / "check_dam.stl").write_bytes((CASES / "meshes" / "check_dam.stl").read_bytes())
     assert main(["validate", str(f)]) == 2
     assert "outputs.0.deposit_threshold: the deposit front is defined for 2D" in capsys.readouterr().err
+
+
+def test_front_of_a_profile_shorter_than_the_window():
+    """A column narrower than the 5-threshold window (0.1 m wide, window 0.25 m) still has its front at its
+    edge, within one sample."""
+    s = 0.0025
+    g = (np.arange(40) + 0.5) * s
+    x = np.array([(a, b) for a in g if a < 0.1 for b in (np.arange(200) + 0.5) * s])
+    a = np.full(len(x), s * s)
+    assert deposit_front(x, a, 0.05, 0.01) == pytest.approx(0.1, abs=0.01)

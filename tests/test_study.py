@@ -154,6 +154,7 @@ def test_monte_carlo_friction_angle_gives_runout_distribution(tmp_path):
     (["--sample", "materials.soil.friction_angle=normal(31)"], "normal takes 2 numbers"),
     (["--vary", "grid.cell_size"], "dotted.key=v1,v2"),
     (["--reference", "/nonexistent/run"], "--reference"),
+    (["--set", "outputs=abc", "--vary", "grid.cell_size=0.04,0.02"], "outputs: must be a list"),
 ])
 def test_bad_study_arguments_are_refused_before_any_run(tmp_path, capsys, args, needle):
     """Bad --vary/--sample/--reference: exit 2 naming the problem, and no study folder is made."""

@@ -16,6 +16,8 @@ has no damping pass.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..kernels.grid_update import grid_update, grid_update_folded, momentum_to_velocity
@@ -67,9 +69,10 @@ class Simulation:
     def _g2p(self, view, dt, set_velocity, move, gradient):
         st, sc, g = self.state, self.scene, self.scene.grid
         g_vel_old = view.g_vel_old if self.split_force else view.g_vel  # read by FLIP only
+        ratio = sc.flip_ratio if sc.flip_tau is None else math.exp(-dt / sc.flip_tau)
         self.g2p(self.tag, st.p_x, st.p_v, st.p_C, st.p_L, st.p_vol, st.p_rho, st.p_mass,
             view.g_vel, g_vel_old, g.origin, g.h, g.kind, view.lo, view.nloc, dt,
-            sc.transfer_mode, sc.flip_ratio, sc.apic_dinv, set_velocity, move, gradient)
+            sc.transfer_mode, ratio, sc.apic_dinv, set_velocity, move, gradient)
 
     def _p2g(self, view, f_scale):
         """P2G; the force enters scaled by f_scale (split: 1 or 0; folded: dt or 0)."""

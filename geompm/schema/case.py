@@ -72,11 +72,26 @@ class SolverSpec(Strict):
         "quadratic or cubic shape functions)"
     )
     flip_ratio: float = Field(
-        0.99, ge=0.0, le=1.0, description="FLIP fraction of the velocity update (transfer 'flip' only) [-]"
+        0.99, ge=0.0, le=1.0, description="FLIP fraction of the velocity update per step (transfer 'flip' "
+        "only) [-]; the PIC share 1 - ratio dissipates per step, so more steps dissipate more"
+    )
+    flip_relaxation_time: float | None = Field(
+        None, gt=0, description="Transfer 'flip': relax the particle velocity towards the grid's (PIC) with "
+        "this time constant tau [s] instead of a fixed ratio per step: ratio = exp(-dt / tau), a dissipation "
+        "per second that does not grow when the step shrinks (docs/validation/column-collapse.md); "
+        "e.g. 0.1 sqrt(H0 / g) for a granular collapse"
     )
     update: Literal["usl", "musl"] = Field(
         "usl", description="Stress update order: USL (update stress last) or MUSL (modified USL)"
     )
+
+    @field_validator("flip_relaxation_time")
+    @classmethod
+    def _relaxation_needs_flip(cls, v, info):
+        if v is not None and info.data.get("transfer") != "flip":
+            raise ValueError(f"applies to transfer 'flip' only (transfer is '{info.data.get('transfer')}'); "
+                             "set solver.transfer to \"flip\" or remove flip_relaxation_time")
+        return v
 
 
 class MaterialSpec(BaseModel):

@@ -25,7 +25,7 @@ from . import report
 from .execute import Pool, finished, run_variant, threads_per_run, variant_case
 from .plan import build_plan, parse_sample, parse_vary
 
-SCALARS = ("runout", "peak_force", "impulse")
+SCALARS = ("runout", "height", "peak_force", "impulse")
 
 
 def add_parser(sub) -> None:
@@ -55,6 +55,8 @@ def add_parser(sub) -> None:
 def series_only(raw: dict) -> list[str]:
     """A --set that keeps only the case's series writer (one is added at the finest output interval if absent)."""
     outs = raw.get("outputs", [])
+    if not isinstance(outs, list) or not all(isinstance(o, dict) for o in outs):
+        return []  # not a list of writers: left as it is, for the case check to refuse with its JSON path
     keep = [o for o in outs if o.get("writer") == "series"]
     if not keep:
         keep = [{"writer": "series", "interval": min((o.get("interval", 0.0) for o in outs), default=0.0)}]
@@ -103,11 +105,14 @@ def _metric_names(requested: list[str], series_list) -> tuple[list[str], list[st
     """(scalar metric names, series columns) to report."""
     cols = set().union(*[set(s) for s in series_list if s is not None]) if series_list else set()
     labels = sorted({lab for s in series_list if s is not None for lab in M.obstacle_labels(s)})
-    wanted = requested or ["runout", "peak_force", "impulse", *M.SERIES_DEFAULT]
+    wanted = requested or ["runout", "height", "peak_force", "impulse", *M.SERIES_DEFAULT]
     scalars, columns = [], []
     for name in wanted:
         if name == "runout":
             scalars.append("runout")
+        elif name == "height":
+            if any(s is not None and "deposit_height" in s for s in series_list):
+                scalars.append("height")
         elif name in ("peak_force", "impulse"):
             scalars += [f"{name}:{lab}" for lab in labels]
         elif name in cols or name in M.SERIES_DEFAULT:

@@ -4,6 +4,8 @@ Scalar metrics (one number per run):
 - ``runout``: ``deposit_front`` [m] at the last row of series.csv when the
   series writer has ``deposit_threshold`` (a thickness front, robust to
   outlier particles), else ``front_x`` (the furthest particle);
+- ``height``: ``deposit_height`` [m] at the last row (the deposit's largest
+  thickness, averaged over a window as wide as the threshold), when written;
 - ``peak_force:LABEL``: the largest |F| [N; N/m in 2D] on obstacle LABEL, taken
   every step (status.json), not only at output times;
 - ``impulse:LABEL``: the integral of |F| over the run [N s; N s/m in 2D],
@@ -54,6 +56,8 @@ def scalar_metrics(series: dict, status: dict | None = None) -> dict[str, float]
     front = "deposit_front" if "deposit_front" in series else "front_x"  # the robust front when written
     if front in series and len(series[front]):
         out["runout"] = float(series[front][-1])
+    if "deposit_height" in series and len(series["deposit_height"]):
+        out["height"] = float(series["deposit_height"][-1])
     peaks = (status or {}).get("obstacles", {})
     for label in obstacle_labels(series):
         f = force_magnitude(series, label)

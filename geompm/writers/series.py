@@ -12,7 +12,9 @@ the slope from the column's back), m the total mass and g = |gravity|.  Each
 row is written with one call and flushed, so a crash loses at most the row
 being written.  With ``deposit_threshold`` (2D) it adds ``deposit_front`` [m],
 the largest x where the deposit is at least that thick (geompm.study.deposit:
-a front that one particle rolling ahead cannot move).
+a front that one particle rolling ahead cannot move), and ``deposit_height``
+[m], the deposit's largest thickness averaged over a window as wide as the
+threshold.
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ from pydantic import Field
 
 from ..kernels.reduce import max_projection
 from ..plugin import Params
-from ..study.deposit import deposit_front
+from ..study.deposit import deposit_front, deposit_height
 from .base import Writer
 
 
@@ -39,7 +41,8 @@ class SeriesParams(Params):
     normalise: Normalise | None = Field(None, description="Add T_star, X_star, K_star columns")
     deposit_threshold: float | None = Field(
         None, gt=0, description="2D: add the column deposit_front [m], the largest x where the deposit is at "
-        "least this thick [m] (geompm.study.deposit; e.g. 0.05 H0); geompm study then takes it as the runout")
+        "least this thick [m] (geompm.study.deposit; e.g. 0.05 H0), and deposit_height [m]; geompm study then takes "
+        "them as the runout and the height")
 
 
 class SeriesWriter(Writer):
@@ -70,7 +73,9 @@ class SeriesWriter(Writer):
             row["K_star"] = row["kinetic_energy"] / (self.mass * g * nm.height)
         if self.params.deposit_threshold is not None:
             t = self.params.deposit_threshold
-            row["deposit_front"] = deposit_front(sim.state.p_x, self._solid_areas(sim), t, 0.2 * t)
+            areas = self._solid_areas(sim)
+            row["deposit_front"] = deposit_front(sim.state.p_x, areas, t, 0.2 * t)
+            row["deposit_height"] = deposit_height(sim.state.p_x, areas, 0.2 * t, t)
         return row
 
     @staticmethod

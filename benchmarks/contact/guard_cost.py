@@ -1,0 +1,56 @@
+"""Cost of the particle-level contact guard (issue 15, point 1) in ns per particle-step.
+
+    python benchmarks/contact/guard_cost.py [--steps 60] [--case benchmarks/obstacle3d.json]
+
+Runs the case (default: geompm bench's obstacle3d scene, 3D, an STL pillar in front of a
+collapsing block) through the Python API, times every obstacle's ``apply_particles`` (the
+guard) apart from the whole step, after 5 warm-up steps (compilation), and prints both per
+particle-step with the share of the step that the guard takes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+
+from geompm.api import scene_from_file  # noqa: E402
+from geompm.engine.scheduler import Simulation  # noqa: E402
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--steps", type=int, default=60)
+    ap.add_argument("--case", default=str(ROOT / "benchmarks" / "obstacle3d.json"))
+    ap.add_argument("--set", action="append", default=[])
+    a = ap.parse_args()
+    sim = Simulation(scene_from_file(a.case, ["outputs=[]", *a.set]))
+    guards = [s for s in sim.scene.obstacles if hasattr(s, "apply_particles")]
+    spent = [0.0]
+    for g in guards:
+        inner = g.apply_particles
+
+        def timed(state, dt, t, inner=inner):
+            t0 = time.perf_counter()
+            inner(state, dt, t)
+            spent[0] += time.perf_counter() - t0
+        g.apply_particles = timed
+    for _ in range(5):
+        sim.step(sim.stable_dt())
+    spent[0] = 0.0
+    t0 = time.perf_counter()
+    for _ in range(a.steps):
+        sim.step(sim.stable_dt())
+    wall = time.perf_counter() - t0
+    ps = sim.state.n * a.steps
+    print(f"{a.case}: {sim.state.n} particles, {len(guards)} guarded obstacle(s), {a.steps} steps")
+    print(f"step  {1e9 * wall / ps:.1f} ns per particle-step")
+    print(f"guard {1e9 * spent[0] / ps:.1f} ns per particle-step ({100 * spent[0] / wall:.1f} % of the step)")
+
+
+if __name__ == "__main__":
+    main()
