@@ -90,7 +90,7 @@ class SolverSpec(Strict):
     def _relaxation_needs_flip(cls, v, info):
         if v is not None and info.data.get("transfer") != "flip":
             raise ValueError(f"applies to transfer 'flip' only (transfer is '{info.data.get('transfer')}'); "
-                             "set solver.transfer to \"flip\" or remove flip_relaxation_time")
+                             "set solver.transfer to \"flip\" or remove it (--set solver.flip_relaxation_time=null)")
         return v
 
 
