@@ -90,7 +90,6 @@ def test_dp_runout_does_not_depend_on_the_step():
     assert f1 == pytest.approx(f4, rel=0.02), f"front {f4:.4f} m at cfl 0.4, {f1:.4f} m at cfl 0.1"
 
 
-A2 = 2.0
 A2_SETS = ("bodies.0.geometry.max=[0.1,0.2]", "grid.extent=[0.63,0.24]", "time.end=1.0",
            "solver.flip_relaxation_time=0.143")
 

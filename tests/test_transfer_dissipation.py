@@ -102,7 +102,7 @@ def test_flip_relaxation_time_gives_a_loss_per_second():
     assert _round_trips("flip", 0.99, 160) < 0.5 * _round_trips("flip", 0.99, 10)
 
 
-def test_flip_relaxation_time_reaches_the_scheduler_and_needs_flip(tmp_path):
+def test_flip_relaxation_time_reaches_the_scheduler_and_needs_flip():
     """The scheduler hands g2p the ratio exp(-dt/tau) (here dt = 1e-4 s, tau = 0.1 s: 0.999000); the option
     with another transfer is refused naming solver.flip_relaxation_time."""
     from geompm.api import scene_from_file

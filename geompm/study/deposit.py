@@ -54,23 +54,37 @@ def thickness_profile(p_x: np.ndarray, p_vol: np.ndarray, dx: float) -> tuple[np
     return lo + dx * (np.arange(n) + 0.5), np.diff(F) / dx
 
 
+def _window(t: np.ndarray, dx: float, window: float, kind: str) -> np.ndarray:
+    """Means of t over ``window`` [m]: 'same' centred (odd sample count; zero beyond the profile's ends, where
+    there is no material) or 'valid' (windows inside the profile); never longer than the profile."""
+    k = min(len(t), max(1, int(round(window / dx))))
+    if kind == "same":
+        k -= 1 - k % 2
+    return np.convolve(t, np.ones(k) / k, mode=kind)
+
+
+def front_of(xs: np.ndarray, t: np.ndarray, threshold: float, dx: float, window: float | None = None) -> float:
+    """deposit_front of a profile from thickness_profile."""
+    around = _window(t, dx, 5.0 * threshold if window is None else window, "same")
+    thick = np.nonzero((t >= threshold) & (around >= threshold))[0]
+    return float(xs[thick[-1]] + 0.5 * dx) if thick.size else float("nan")
+
+
+def height_of(t: np.ndarray, dx: float, window: float) -> float:
+    """deposit_height of a profile from thickness_profile."""
+    return float(_window(t, dx, window, "valid").max())
+
+
 def deposit_front(p_x: np.ndarray, p_vol: np.ndarray, threshold: float, dx: float,
                   window: float | None = None) -> float:
     """Largest x [m] where the deposit is at least ``threshold`` [m] thick, both there and on average over
     the ``window`` [m] (default 5 x threshold) centred on it: the front of the main deposit, which neither
     one particle nor a clump in a thin tail can move, and which an abrupt or tapering edge keeps where
     it is (the average alone would carry an abrupt edge half a window forward)."""
-    xs, t = thickness_profile(p_x, p_vol, dx)
-    k = min(len(t), max(1, int(round((5.0 * threshold if window is None else window) / dx))))
-    k -= 1 - k % 2  # odd, so that the window is centred; no longer than the profile
-    around = np.convolve(t, np.ones(k) / k, mode="same")  # no material beyond the profile's ends
-    thick = np.nonzero((t >= threshold) & (around >= threshold))[0]
-    return float(xs[thick[-1]] + 0.5 * dx) if thick.size else float("nan")
+    return front_of(*thickness_profile(p_x, p_vol, dx), threshold, dx, window)
 
 
 def deposit_height(p_x: np.ndarray, p_vol: np.ndarray, dx: float, window: float) -> float:
     """Largest thickness [m] of the deposit averaged over ``window`` [m] (e.g. the front's threshold,
     0.05 H0): one column of particles bunched into a bin does not raise it."""
-    t = thickness_profile(p_x, p_vol, dx)[1]
-    k = min(len(t), max(1, int(round(window / dx))))
-    return float(np.convolve(t, np.ones(k) / k, mode="valid").max())
+    return height_of(thickness_profile(p_x, p_vol, dx)[1], dx, window)

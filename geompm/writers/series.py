@@ -26,7 +26,7 @@ from pydantic import Field
 
 from ..kernels.reduce import max_projection
 from ..plugin import Params
-from ..study.deposit import deposit_front, deposit_height
+from ..study.deposit import front_of, height_of, thickness_profile
 from .base import Writer
 
 
@@ -73,9 +73,9 @@ class SeriesWriter(Writer):
             row["K_star"] = row["kinetic_energy"] / (self.mass * g * nm.height)
         if self.params.deposit_threshold is not None:
             t = self.params.deposit_threshold
-            areas = self._solid_areas(sim)
-            row["deposit_front"] = deposit_front(sim.state.p_x, areas, t, 0.2 * t)
-            row["deposit_height"] = deposit_height(sim.state.p_x, areas, 0.2 * t, t)
+            xs, thickness = thickness_profile(sim.state.p_x, self._solid_areas(sim), 0.2 * t)
+            row["deposit_front"] = front_of(xs, thickness, t, 0.2 * t)
+            row["deposit_height"] = height_of(thickness, 0.2 * t, t)
         return row
 
     @staticmethod
