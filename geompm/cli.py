@@ -77,6 +77,9 @@ def _stage_warnings(scene, emit) -> None:
     for stage in scene.boundaries + scene.obstacles + scene.damping:
         for text in stage.warnings():
             emit("warning: " + text)
+    for name, mat in zip(scene.material_names, scene.materials):
+        for text in mat.warnings():
+            emit(f"warning: materials.{name}: {text}")
 
 
 def _viscous_warning(loaded, scene, emit) -> None:

@@ -4,8 +4,9 @@ Checked after every step, in one parallel pass over the particles:
 
 - a NaN or Inf in any position, velocity or stress;
 - kinetic energy beyond what the run can supply.  Energy conservation bounds
-  E_k(t) <= E_k(0) + W_g(t) + U_0 + E_v, with W_g = sum m g . (x - x0) the work
-  done by gravity, U_0 = sum V sigma:sigma / (2 E) the strain energy the
+  E_k(t) <= E_k(0) + W_g(t) + U_0 + E_v, with W_g = sum max(m g . (x - x0), 0) the
+  energy released by the particles that moved down (an upper bound of the work of
+  gravity that a runaway particle thrown upwards cannot cancel), U_0 = sum V sigma:sigma / (2 E) the strain energy the
   initial stress can release, and E_v = 2 M v_o^2 for obstacles moving at v_o.
   An explicit scheme past its stability limit grows energy exponentially, so the
   check uses a factor 2 on that bound plus a floor of 1e-6 M |g| L (L the grid
@@ -30,7 +31,13 @@ from ..errors import SimulationError
 
 @njit(parallel=True, cache=True)
 def health_sums(p_x, p_x0, p_v, p_stress, p_mass, gravity):
-    """(number of particles with a non-finite field, kinetic energy, work done by gravity)."""
+    """(number of particles with a non-finite field, kinetic energy, energy released by gravity).
+
+    The gravity term sums m g.(x - x0) over the particles that moved down only: the
+    energy gravity has released.  A net sum would let one runaway particle thrown
+    upwards cancel the descent of the whole mass (a 3D debris blow-up reported its
+    supply as 0 J that way); the positive part is still an upper bound of what the
+    run can turn into kinetic energy."""
     n, d = p_x.shape
     bad = 0
     ek = 0.0
@@ -49,7 +56,7 @@ def health_sums(p_x, p_x0, p_v, p_stress, p_mass, gravity):
                 ok = False
         if ok:
             ek += 0.5 * p_mass[p] * v2
-            wg += p_mass[p] * w
+            wg += p_mass[p] * max(w, 0.0)
         else:
             bad += 1
     return bad, ek, wg

@@ -66,6 +66,11 @@ class Material(Plugin):
     def kinematic_viscosity(self) -> float:
         return 0.0
 
+    def warnings(self) -> list[str]:
+        """What `geompm validate` and `geompm run` should warn about this law's parameters, each a
+        full sentence (the caller names the material's JSON path)."""
+        return []
+
     # -- used by the engine ------------------------------------------------------------
     @property
     def density(self) -> float:

@@ -22,7 +22,8 @@ plane-strain strength for associated flow (psi = phi).
 
 State variables: accumulated equivalent plastic strain eps_p = sum dlambda / sqrt3
 (sqrt(2/3 de_p:de_p) of the deviatoric plastic strain), plastic volumetric
-strain eps_v^p = sum 3 beta dlambda (dilatant positive).
+strain eps_v^p = sum 3 beta dlambda (dilatant positive).  With a dilatancy
+cut-off (plasticity.py) beta = 0 once eps_v^p has reached it.
 """
 
 from __future__ import annotations
@@ -68,10 +69,11 @@ def dp_coefficients(angle_deg: float, cone: str) -> tuple[float, float]:
 
 @njit(parallel=True, fastmath=False, cache=True)
 def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
-    lam, G, alpha, k, beta, tcut = prm[1], prm[2], prm[3], prm[4], prm[5], prm[6]
+    lam, G, alpha, k, beta_psi, tcut, vcut = prm[1], prm[2], prm[3], prm[4], prm[5], prm[6], prm[7]
     K = lam + 2.0 * G / 3.0
     for p in prange(p_L.shape[0]):
         s = p_stress[p]
+        beta = beta_psi if p_state[p, 1] < vcut else 0.0  # dilatancy cut-off: isochoric past it
         tr = elastic_trial(s, p_L[p], dt, lam, G)
         I1 = tr[0] + tr[1] + tr[2]
         mean = I1 / 3.0
@@ -121,7 +123,7 @@ class DruckerPrager(FrictionalMaterial):
         k = kc * p.cohesion
         apex = k / (3 * alpha) if alpha > 0 else np.inf
         tcut = apex if p.tension_cutoff is None else min(p.tension_cutoff, apex)
-        return np.array([p.density, lam, G, alpha, k, beta, tcut])
+        return np.array([p.density, lam, G, alpha, k, beta, tcut, p.cutoff()])
 
     @classmethod
     def example_params(cls):

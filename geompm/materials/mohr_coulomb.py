@@ -13,7 +13,7 @@ compression); if the edge return is inadmissible, return to the apex
 sigma_i = c cot(phi).  The principal directions of the trial stress are kept
 (isotropy); they come from a register Jacobi solver (kernels/eigen3.py), not
 LAPACK, so the law needs no scipy and no allocation per particle.  State
-variables as in drucker_prager.py.
+variables and the dilatancy cut-off as in drucker_prager.py.
 """
 
 from __future__ import annotations
@@ -111,12 +111,13 @@ def _rebuild(s, w0, w1, w2, x0, y0, z0, x1, y1, z1, x2, y2, z2):
 
 @njit(parallel=True, cache=True)
 def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
-    lam, G, sphi, cphi, spsi, c = prm[1], prm[2], prm[3], prm[4], prm[5], prm[6]
+    lam, G, sphi, cphi, spsi_law, c, vcut = prm[1], prm[2], prm[3], prm[4], prm[5], prm[6], prm[7]
     n = p_L.shape[0]
     nchunks = max(1, min(n, 256))
     for ch in prange(nchunks):
         for p in range(ch * n // nchunks, (ch + 1) * n // nchunks):
             s = p_stress[p]
+            spsi = spsi_law if p_state[p, 1] < vcut else 0.0  # dilatancy cut-off: isochoric past it
             tr = elastic_trial(s, p_L[p], dt, lam, G)
             # Voigt order (xx, yy, zz, xy, yz, xz); eigenvalues ascending: w[2] = sigma_1
             e = sym_eig3(tr[0], tr[1], tr[2], tr[3], tr[4], tr[5])
@@ -142,7 +143,8 @@ class MohrCoulomb(FrictionalMaterial):
     def pack(cls, p):
         lam, G = p.lame()
         phi, psi = math.radians(p.friction_angle), math.radians(p.dilation_angle)
-        return np.array([p.density, lam, G, math.sin(phi), math.cos(phi), math.sin(psi), p.cohesion])
+        return np.array([p.density, lam, G, math.sin(phi), math.cos(phi), math.sin(psi), p.cohesion,
+                         p.cutoff()])
 
     @classmethod
     def example_params(cls):

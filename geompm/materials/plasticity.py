@@ -24,6 +24,15 @@ class ElastoplasticParams(MaterialParams):
     friction_angle: float = Field(ge=0.0, lt=90.0, description="Friction angle phi [deg], 0 <= phi < 90")
     cohesion: float = Field(0.0, ge=0.0, description="Cohesion c [Pa]; 0 for granular soil")
     dilation_angle: float = Field(0.0, ge=0.0, lt=90.0, description="Dilation angle psi [deg], psi <= phi")
+    dilation_cutoff: float | None = Field(
+        None, gt=0.0, description="Dilatancy cut-off: the plastic volumetric strain eps_v^p [-] (dilatant positive) "
+        "at which the soil reaches its loosest state and flows on at constant volume (psi = 0); "
+        "ln((1 + e_max) / (1 + e_0)) for the void ratios e_0 (initial) and e_max.  Default: none, the "
+        "soil dilates at psi for ever")
+
+    def cutoff(self) -> float:
+        """The dilatancy cut-off for the kernels: infinite when there is none."""
+        return math.inf if self.dilation_cutoff is None else float(self.dilation_cutoff)
 
     def lame(self):
         E, nu = self.youngs_modulus, self.poisson_ratio
@@ -72,8 +81,17 @@ def set_scaled_deviator(s, tr, mean, scale, new_mean):
 
 @njit(cache=True)
 def elastic_wave_speed(prm, p_rho):
-    """P-wave speed sqrt((lambda + 2G) / rho0) [m/s] for prm = [rho0, lambda, G, ...]."""
-    return math.sqrt((prm[1] + 2.0 * prm[2]) / prm[0])
+    """Largest P-wave speed sqrt((lambda + 2G) / rho_p) [m/s] over the particles, at each
+    particle's current density rho_p, for prm = [rho0, lambda, G, ...].
+
+    The elastic moduli do not depend on the density, so a particle that has dilated
+    (rho_p < rho0) carries a faster wave than the reference one: a dilatant soil at
+    large shear strain does exactly that (docs/stability.md)."""
+    rho_min = prm[0]
+    for p in range(p_rho.shape[0]):
+        if p_rho[p] < rho_min:
+            rho_min = p_rho[p]
+    return math.sqrt((prm[1] + 2.0 * prm[2]) / rho_min)
 
 
 class FrictionalMaterial(Material):
@@ -87,3 +105,13 @@ class FrictionalMaterial(Material):
 
     def stiffness(self) -> float:
         return float(self.params.youngs_modulus)
+
+    def warnings(self) -> list[str]:
+        p = self.params
+        if p.dilation_angle > 0.0 and p.dilation_cutoff is None:
+            return [f"dilation_angle = {p.dilation_angle:g} deg with no dilation_cutoff: under continued shear the "
+                    "soil dilates without bound, its density falls (to 4 % of rho0 in the column collapse at "
+                    "psi = 10 deg, h = 5 mm) and the stable time step with it, as sqrt(rho / rho0). Set "
+                    "dilation_cutoff to the plastic volumetric strain of the loosest state, "
+                    "ln((1 + e_max) / (1 + e_0)), e.g. 0.05 (docs/stability.md, Dilatancy)"]
+        return []

@@ -16,7 +16,16 @@ Each check drives the law's own ``stress_kernel`` on a block of particles with
   Jaumann update is first order in the rotation per step);
 - ``state_shape``: state arrays keep their shape (n, len(state_vars)) and
   the stress its shape (n, 6);
-- ``finite``: no NaN or Inf for strain increments |L dt| from 1e-12 to 1e-1.
+- ``finite``: no NaN or Inf for strain increments |L dt| from 1e-12 to 1e-1;
+- ``plastic_dissipation``: laws with an isotropic elastic part (``youngs_modulus``
+  and ``poisson_ratio`` among their parameters) never return energy from plastic
+  flow.  Over random strain paths, a quarter of them stretched through the apex
+  of the yield surface, the plastic work of every step,
+      d = sigma_{n+1} : (de - C^-1 : (sigma_{n+1} - sigma_n)),
+  the backward-Euler dissipation of the return (Simo & Hughes 1998,
+  Computational Inelasticity, sec. 3.3), is >= 0 to round-off.  An apex or
+  tension branch that puts the stress where it does work against its own plastic
+  strain fails here.
 """
 
 from __future__ import annotations
@@ -97,7 +106,63 @@ def check_finite(law):
             f"{law.name}: NaN/Inf for strain increments of {magnitude:.0e}"
 
 
+def _voigt_sym(L):
+    """Symmetric part of (n, 3, 3) as Voigt tensor components (xx, yy, zz, xy, yz, xz)."""
+    D = 0.5 * (L + np.transpose(L, (0, 2, 1)))
+    return np.stack([D[:, 0, 0], D[:, 1, 1], D[:, 2, 2], D[:, 0, 1], D[:, 1, 2], D[:, 0, 2]], axis=1)
+
+
+def _double_dot(a, b):
+    """a : b of Voigt tensors (shear components counted twice)."""
+    return (a[:, :3] * b[:, :3]).sum(axis=1) + 2.0 * (a[:, 3:] * b[:, 3:]).sum(axis=1)
+
+
+def plastic_work_per_step(law, steps: int = 80, seed: int = 3) -> np.ndarray:
+    """(steps, N) plastic work per unit volume [J/m3] of each step along random strain paths.
+
+    Paths are symmetric (no spin, so the Jaumann term is zero and C^-1 (sigma_{n+1} - sigma_n)
+    is the elastic strain increment exactly); each particle changes direction every 10 steps.
+    Particles 0 .. N/4 get a volumetric stretch on top that carries them through the apex,
+    N/4 .. N/2 a compression."""
+    p = law.example_params()
+    E, nu = float(p.youngs_modulus), float(p.poisson_ratio)
+    G, lam = E / (2 * (1 + nu)), E * nu / ((1 + nu) * (1 - 2 * nu))
+    mat, stress, rho, state = _start(law)
+    rng = np.random.default_rng(seed)
+    dt, de = 1e-3, 40.0 * abs(stress).max() / E / steps  # the strain of one step: a path of 40 yield strains
+    out = np.empty((steps, N))
+    for k in range(steps):
+        if k % 10 == 0:
+            L = rng.normal(size=(N, 3, 3))
+            L = 0.5 * (L + np.transpose(L, (0, 2, 1)))
+            L[: N // 4] += 1.5 * np.eye(3)
+            L[N // 4: N // 2] -= 0.5 * np.eye(3)
+            L *= de / dt / np.abs(L).max(axis=(1, 2))[:, None, None]
+        old = stress.copy()
+        mat.update_stress(dt, L, rho, stress, state)
+        ds = stress - old
+        tr = ds[:, :3].sum(axis=1)
+        de_el = ds / (2 * G)
+        de_el[:, :3] -= (lam / (2 * G * (3 * lam + 2 * G)) * tr)[:, None]
+        out[k] = _double_dot(stress, _voigt_sym(L) * dt - de_el)
+    return out
+
+
+def check_plastic_dissipation(law):
+    names = law.Params.model_fields
+    if "youngs_modulus" not in names or "poisson_ratio" not in names:
+        return
+    work = plastic_work_per_step(law)
+    sigma = np.abs(_start(law)[1]).max()
+    scale = 1e-9 * sigma * 40.0 * sigma / law.example_params().youngs_modulus  # round-off of sigma : (40 sigma / E)
+    k, p = np.unravel_index(np.argmin(work), work.shape)
+    assert work[k, p] >= -scale, (
+        f"{law.name}: negative plastic dissipation {work[k, p]:.3e} J/m3 at step {k} of particle {p} "
+        f"(sigma_n+1 : de_p must be >= 0)")
+
+
 MATERIAL_CHECKS = {
+    "plastic_dissipation": check_plastic_dissipation,
     "zero_rate": check_zero_rate,
     "objectivity": check_objectivity,
     "state_shape": check_state_shape,
