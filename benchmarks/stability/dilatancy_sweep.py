@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import json
 import math
 import sys
 import time
@@ -26,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from geompm.api import scene_from_file
+from geompm.api import scene_from_dict
 from geompm.engine.health import HealthCheck, health_sums
 from geompm.engine.scheduler import Simulation
 from geompm.errors import SimulationError
@@ -41,9 +42,11 @@ def run_one(model, psi, h, cfl, end, reference_density, cutoff=None):
     sets = [f"materials.soil.dilation_angle={psi}", f"grid.cell_size={h}", f"time.end={end}", f"time.cfl={cfl}"]
     if cutoff is not None:
         sets.append(f"materials.soil.dilation_cutoff={cutoff}")
-    if model != "drucker_prager":
-        sets += [f"materials.soil.model={model}", "materials.soil.cone=null"]
-    scene = scene_from_file(CASE, sets)
+    raw = json.loads(CASE.read_text())
+    if model != "drucker_prager":  # the same soil under another law: drop the DP-only cone
+        raw["materials"]["soil"].pop("cone", None)
+        raw["materials"]["soil"]["model"] = model
+    scene = scene_from_dict(raw, CASE.parent, sets)
     mat = scene.materials[0]
     rho0 = float(mat.prm[0])
     if reference_density:
