@@ -110,11 +110,12 @@ class HealthCheck:
         self.budget0 = ek0 + _strain_energy(scene) + 2.0 * mass * v_obs ** 2
         self.floor = 1e-6 * mass * max(g, 1.0) * diag
         self.kinetic_energy = ek0
+        self.released = 0.0  # energy gravity has released so far [J] (health_sums)
 
     def after_step(self, sim) -> None:
         st, sc = sim.state, self.scene
         bad, ek, wg = health_sums(st.p_x, st.p_x0, st.p_v, st.p_stress, st.p_mass, sc.gravity)
-        self.kinetic_energy = ek
+        self.kinetic_energy, self.released = ek, wg
         if bad:
             p = _first_nonfinite(st)
             field = next(name for name, arr in (("position", st.p_x), ("velocity", st.p_v), ("stress", st.p_stress))
