@@ -6,7 +6,8 @@ Checked after every step, in one parallel pass over the particles:
 - kinetic energy beyond what the run can supply.  Energy conservation bounds
   E_k(t) <= E_k(0) + W_g(t) + U_0 + E_v, with W_g = sum max(m g . (x - x0), 0) the
   energy released by the particles that moved down (an upper bound of the work of
-  gravity that a runaway particle thrown upwards cannot cancel), U_0 = sum V sigma:sigma / (2 E) the strain energy the
+  gravity that a runaway particle thrown upwards cannot cancel), U_0 = sum V
+  sigma:sigma / (2 E) the strain energy the
   initial stress can release, and E_v = 2 M v_o^2 for obstacles moving at v_o.
   An explicit scheme past its stability limit grows energy exponentially, so the
   check uses a factor 2 on that bound plus a floor of 1e-6 M |g| L (L the grid
