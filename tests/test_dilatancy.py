@@ -37,7 +37,7 @@ def test_gravity_supply_is_not_cancelled_by_a_runaway_particle():
     the supply is 19.62 J (the net work would be -29.43 J)."""
     p_x0 = np.array([[0.0, 10.0], [0.0, 10.0]])
     p_x = np.array([[0.0, 8.0], [0.0, 15.0]])
-    _, ek, released = health_sums(p_x, p_x0, np.zeros((2, 2)), np.zeros((2, 6)), np.ones(2),
+    _, _, released = health_sums(p_x, p_x0, np.zeros((2, 2)), np.zeros((2, 6)), np.ones(2),
                                   np.array([0.0, -9.81]))
     assert released == pytest.approx(2 * 9.81, rel=1e-12)
 

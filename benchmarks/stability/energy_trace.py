@@ -15,6 +15,9 @@ from pathlib import Path
 import numpy as np
 from geompm.api import scene_from_file
 from geompm.engine.scheduler import Simulation
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from dilatancy_sweep import use_reference_density  # noqa: E402
 psi, h = float(sys.argv[1]), float(sys.argv[2])
 reference = "--reference-density" in sys.argv
 extra = [a for a in sys.argv[3:] if a not in ("--set", "--reference-density")]
@@ -27,8 +30,7 @@ prm = mat.pack(mat.params)
 rho0, lam, G = prm[0], prm[1], prm[2]
 K = lam + 2*G/3
 if reference:
-    c0 = float(np.sqrt((lam + 2 * G) / rho0))
-    mat.wave_speed = lambda p_rho: c0
+    use_reference_density(mat)
 def we(s):
     m = s[:, :3].sum(1)/3
     dev2 = ((s[:, :3]-m[:, None])**2).sum(1) + 2*(s[:, 3:]**2).sum(1)
