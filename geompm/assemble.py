@@ -6,6 +6,7 @@ arrays and scalars held by the Scene.
 
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -15,9 +16,8 @@ from .engine.state import ParticleState
 from .errors import CaseError
 from .geometry import overlap_problems, seed_body
 from .kernels.shape import APIC_D_FACTOR, KIND
+from .schema.case import RunSpec
 from .schema.load import LoadedCase
-
-TRANSFER_MODE = {"pic": 0, "apic": 1, "flip": 2, "mls": 3}
 
 
 @dataclass
@@ -33,20 +33,22 @@ class Scene:
     cfl: float
     dt_max: float | None
     dt_fixed: float | None
-    transfer_mode: int
+    transfer: str  # "pic", "apic", "flip" or "mls" (kernels/stencil.SCHEMES)
     flip_ratio: float
     flip_tau: float | None  # FLIP relaxation time [s]: ratio exp(-dt/tau) per step instead of flip_ratio
     musl: bool
-    apic_dinv: float
+    apic_dinv: float  # APIC/MLS inertia D^-1 [1/m2]; 0 for linear hats (no D: C = L)
     nu_max: float
+    run_options: RunSpec  # checkpoints, on_leave_domain
+    backend: str = "cpu"  # solver.backend (backend/__init__.py)
+    sort_interval: int = 20  # solver.sort_interval: steps between two spatial sorts; 0 never
     dt_min: float = 1e-9
-    run_options: object = None  # schema.case.RunSpec: checkpoints, on_leave_domain
     base_dir: object = None  # folder of the case file: relative paths (meshes) start there
     boundaries: list = field(default_factory=list)
     obstacles: list = field(default_factory=list)
     damping: list = field(default_factory=list)
     writers: list = field(default_factory=list)
-    case_raw: dict = field(default_factory=dict)
+    case_text: str = ""  # the case as JSON, for provenance only (the HDF5 file's attribute); never parsed
 
 
 def _body_velocity(body, pts, dim):
@@ -183,12 +185,13 @@ def assemble(loaded: LoadedCase) -> Scene:
         materials=materials, material_names=names,
         end_time=case.time.end, cfl=case.time.cfl, dt_max=case.time.dt_max, dt_fixed=case.time.dt,
         dt_min=case.time.dt_min, run_options=case.run,
-        transfer_mode=TRANSFER_MODE[case.solver.transfer], flip_ratio=case.solver.flip_ratio,
+        transfer=case.solver.transfer, flip_ratio=case.solver.flip_ratio,
+        backend=case.solver.backend, sort_interval=case.solver.sort_interval,
         flip_tau=case.solver.flip_relaxation_time,
         musl=case.solver.update == "musl",
         apic_dinv=(1.0 / (APIC_D_FACTOR[kind] * h * h)) if APIC_D_FACTOR[kind] > 0 else 0.0,
         nu_max=max((m.kinematic_viscosity() for m in materials), default=0.0),
-        case_raw=loaded.raw,
+        case_text=json.dumps(loaded.raw),
         base_dir=loaded.base_dir,
     )
     for attr in ("boundaries", "obstacles", "damping"):

@@ -69,11 +69,13 @@ def cmd_validate(args) -> int:
         print(f"warning: the first time step is below time.dt_min = {scene.dt_min:g} s: `geompm run` would stop "
               "before the first step (exit 3); the wave speed sqrt(E/rho), the viscosity and time.cfl set it")
     _viscous_warning(loaded, scene, print)
-    _stage_warnings(scene, print)
+    _stage_warnings(scene, print, loaded)
     return 0
 
 
-def _stage_warnings(scene, emit) -> None:
+def _stage_warnings(scene, emit, loaded=None) -> None:
+    for path, text in (loaded.warnings if loaded is not None else []):
+        emit(f"warning: {path}: {text}")
     for stage in scene.boundaries + scene.obstacles + scene.damping:
         for text in stage.warnings():
             emit("warning: " + text)
@@ -149,8 +151,8 @@ def _write_status(run_dir: Path, scene, runner, summary, finished: bool, reason:
         "particle_steps_per_second": summary.particle_steps_per_second if summary else None,
         "peak_rss_bytes": peak_rss(),
         "front_x": float(sim.state.p_x[:, 0].max()) if sim.state.n else None,
-        "obstacles": {o.label: {"peak_force": o.peak[0], "peak_time": o.peak[1]}
-                      for o in scene.obstacles if hasattr(o, "peak")},
+        "obstacles": {o.label: {"peak_force": pk[0], "peak_time": pk[1]}
+                      for o in scene.obstacles if (pk := o.peak_force()) is not None},
         "geompm": __version__,
     }
     atomic_write_text(run_dir / "status.json", json.dumps(status, indent=2) + "\n")
@@ -206,7 +208,7 @@ def cmd_run(args) -> int:
                  f"h = {scene.grid.h:g} m, end time {scene.end_time:g} s, first dt {dt:.3g} s, "
                  f"~{mem / 2**20:.0f} MiB -> {run_dir}")
         _viscous_warning(loaded, scene, log.warning)
-        _stage_warnings(scene, log.warning)
+        _stage_warnings(scene, log.warning, loaded)
     summary = None
     try:
         with _StopOnSignal(runner) as stopper:

@@ -13,15 +13,28 @@ A stage may contribute columns to series.csv through ``series()``, a dict of
 column name -> value at the current step.  A stage that carries state from
 step to step (an obstacle's peak force) returns it from ``state_dict()`` (plain
 JSON values) and takes it back in ``load_state()``, so checkpoints restore it.
-The scheduler picks stages by these capabilities, never by plugin name.
+Every capability the engine asks about is declared here with its default:
+``phase`` (where the stage runs among the others each step), ``needs_split_force``,
+``supplied_speed()`` (the health check's energy budget for moving obstacles),
+``peak_force()`` (status.json).  The scheduler orders and picks stages by these,
+never by plugin name and never by probing attributes.
 """
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 from .plugin import Plugin
+
+#: stage phases, in the order they run each step (stable within a phase: the case's order).  Node
+#: merging (periodic folding) first, then damping; boundaries and obstacles have the last word on
+#: grid velocities; the same order holds for the particle passes.
+MERGE, DAMPING, BOUNDARY, OBSTACLE = 0, 1, 2, 3
 
 
 class Stage(Plugin):
+    phase: ClassVar[int] = BOUNDARY
+
     def __init__(self, params, label: str, json_path: str = ""):
         self.params = params
         self.label = label
@@ -41,6 +54,14 @@ class Stage(Plugin):
         """What `geompm validate` and `geompm run` should warn about after set-up (e.g. an obstacle thinner
         than the grid resolves), each a full sentence."""
         return []
+
+    def supplied_speed(self) -> float:
+        """Largest speed [m/s] at which the stage drives material (a moving obstacle); 0 if it drives none."""
+        return 0.0
+
+    def peak_force(self) -> tuple[float, float] | None:
+        """(largest |F| [N, N/m in 2D], its time [s]) for stages that take a force, else None."""
+        return None
 
     def state_dict(self) -> dict:
         return {}

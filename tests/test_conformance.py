@@ -1,8 +1,10 @@
 """The conformance suite of geompm.testing over every registered material, third-party included."""
 
 import pytest
+from numba import njit
 
 from geompm import registry
+from geompm.materials.drucker_prager import dp_stress
 from geompm.testing import MATERIAL_CHECKS
 
 LAWS = sorted(registry.available("materials").items())
@@ -30,16 +32,24 @@ def test_plastic_dissipation_check_catches_a_law_that_returns_energy():
     from geompm.materials.drucker_prager import DruckerPrager
     from geompm.testing.conformance import check_plastic_dissipation, plastic_work_per_step
 
-    def overshooting(prm, dt, p_L, p_rho, p_stress, p_state):
-        old = p_stress.copy()
-        DruckerPrager.stress_kernel(prm, dt, p_L, p_rho, p_stress, p_state)
-        p_stress[:] = old + 1.5 * (p_stress - old)
-
     class Overshoot(DruckerPrager):
         name = "dp_overshoot"
-        stress_kernel = staticmethod(overshooting)
+        particle_stress = overshooting_dp_stress
 
     with pytest.raises(AssertionError, match="negative plastic dissipation"):
         check_plastic_dissipation(Overshoot)
     work = plastic_work_per_step(DruckerPrager)
     assert work.min() > -1e-6 and work.max() > 1e3
+
+
+@njit(cache=True)
+def overshooting_dp_stress(prm, dt, L, rho, s, state):
+    """Drucker-Prager with its stress change scaled by 1.5 (the mutant above)."""
+    s0, s1, s2, s3, s4, s5 = s[0], s[1], s[2], s[3], s[4], s[5]
+    dp_stress(prm, dt, L, rho, s, state)
+    s[0] = s0 + 1.5 * (s[0] - s0)
+    s[1] = s1 + 1.5 * (s[1] - s1)
+    s[2] = s2 + 1.5 * (s[2] - s2)
+    s[3] = s3 + 1.5 * (s[3] - s3)
+    s[4] = s4 + 1.5 * (s[4] - s4)
+    s[5] = s5 + 1.5 * (s[5] - s5)

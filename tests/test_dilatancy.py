@@ -15,7 +15,8 @@ import pytest
 from geompm.api import scene_from_file
 from geompm.engine.health import HealthCheck, health_sums
 from geompm.engine.scheduler import Simulation
-from geompm.materials.plasticity import elastic_wave_speed
+from geompm.backend.cpu_loops import block_loops
+from geompm.materials.linear_elastic import LinearElastic
 from tests.stability.biaxial import dilation_rate
 from tests.stability.harness import ROOT
 
@@ -26,6 +27,7 @@ def test_wave_speed_follows_the_current_density():
     lam, G, rho0 = 4.0e5, 3.0e5, 2000.0
     prm = np.array([rho0, lam, G])
     c0 = math.sqrt((lam + 2 * G) / rho0)
+    elastic_wave_speed = block_loops(LinearElastic)[1]  # the engine's max over a block of the law's function
     assert elastic_wave_speed(prm, np.array([rho0 * 1.1, rho0 / 4, rho0])) == pytest.approx(2 * c0, rel=1e-12)
     assert elastic_wave_speed(prm, np.array([rho0 * 1.5])) == pytest.approx(c0, rel=1e-12)
 

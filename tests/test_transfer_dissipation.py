@@ -113,8 +113,8 @@ def test_flip_relaxation_time_reaches_the_scheduler_and_needs_flip():
 
     sim = Simulation(scene_from_file(CASES / "column_collapse.json", ["outputs=[]", "grid.cell_size=0.04"]))
     seen = []
-    g2p = sim.g2p
-    sim.g2p = lambda *a: (seen.append(a[17]), g2p(*a))[1]
+    g2p = sim.backend.g2p_kernel
+    sim.backend.g2p_kernel = lambda *a: (seen.append(a[17]), g2p(*a))[1]
     sim.step(1e-4)
     assert seen and all(r == pytest.approx(np.exp(-1e-4 / 0.1), rel=1e-12) for r in seen)
     with pytest.raises(CaseError) as err:

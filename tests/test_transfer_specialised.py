@@ -1,5 +1,5 @@
 """The 2D and 3D transfer kernels the scheduler runs (kernels/transfer2d.py,
-transfer3d.py) equal the dimension-generic reference (kernels/transfer.py).
+transfer3d.py) equal the dimension-generic reference (tests/reference_transfer.py).
 
 The specialised kernels reorder the same sums (weights and APIC terms built
 axis by axis, docs/performance.md), so every output must agree to rounding:
@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from geompm.kernels.shape import APIC_D_FACTOR
-from geompm.kernels.transfer import g2p, p2g
+from .reference_transfer import g2p, p2g
 
 from .transfer_kernels import kernels
 
@@ -86,8 +86,8 @@ def test_folded_p2g_equals_momentum_plus_dt_force(dim, kind, mls):
     v_i = ((mv)_i + dt f_i)/m_i + dt g is then the same as v_i = v_old + dt (f_i/m_i + g).
     For MLS the folded force is an affine term and the split one goes through
     pseudo-derivatives: two different code paths that must agree."""
-    from geompm.engine.scheduler import TRANSFERS
-    from geompm.kernels.stencil import stencil_tag
+    from geompm.backend.cpu import TRANSFERS
+    from geompm.kernels.stencil import scheme_tag, stencil_tag
 
     rng = np.random.default_rng(40 + 10 * dim + kind)
     origin, x, lo, nloc = _scene(dim, rng)
@@ -96,7 +96,7 @@ def test_folded_p2g_equals_momentum_plus_dt_force(dim, kind, mls):
     m, vol, sig = rng.random(n) + 0.5, rng.random(n) * 1e-3, rng.normal(size=(n, 6)) * 1e5
     p2g_fast, dt = TRANSFERS[dim][0], 3e-3
     mls_dinv = 1.0 / (APIC_D_FACTOR[kind] * H * H) if mls else 0.0
-    args = (stencil_tag(kind), x, v, C, m, vol, sig, origin, H, kind, lo, nloc)
+    args = (stencil_tag(kind), scheme_tag("mls" if mls else "apic"), x, v, C, m, vol, sig, origin, H, kind, lo, nloc)
     split = (np.zeros(nn), np.zeros((nn, dim)), np.zeros((nn, dim)))
     p2g_fast(*args, np.zeros((2, nn, 1 + 2 * dim)), True, 1.0, mls_dinv, *split)
     folded = (np.zeros(nn), np.zeros((nn, dim)), np.full((nn, dim), 7.0))

@@ -1,4 +1,4 @@
-"""The transfer kernels under test, all called with the reference signature of kernels/transfer.py.
+"""The transfer kernels under test, all called with the reference signature of tests/reference_transfer.py.
 
 ``generic``: the dimension-generic reference (separate private-grid arrays, a
 ``with_force`` flag).  ``specialised``: the 2D/3D kernels the scheduler runs,
@@ -8,10 +8,11 @@ mode (force in its own columns), wrapped to take the same arguments.
 
 import numpy as np
 
-from geompm.engine.scheduler import TRANSFERS
-from geompm.kernels.stencil import stencil_tag
-from geompm.kernels.transfer import g2p as generic_g2p
-from geompm.kernels.transfer import p2g as generic_p2g
+from geompm.backend.cpu import TRANSFERS
+from geompm.kernels.stencil import SCHEMES, scheme_tag, stencil_tag
+
+from .reference_transfer import g2p as generic_g2p
+from .reference_transfer import p2g as generic_p2g
 
 
 def _specialised(dim):
@@ -20,12 +21,13 @@ def _specialised(dim):
     def p2g(x, v, C, m, vol, sig, origin, h, kind, lo, nloc, c_mass, c_mom, c_force, with_force,
             g_mass, g_mom, g_force):
         c_grid = np.zeros((c_mass.shape[0], c_mass.shape[1], 1 + 2 * dim))
-        fast_p2g(stencil_tag(kind), x, v, C, m, vol, sig, origin, h, kind, lo, nloc, c_grid, True,
-                 1.0 if with_force else 0.0, 0.0, g_mass, g_mom, g_force)
+        fast_p2g(stencil_tag(kind), scheme_tag("apic"), x, v, C, m, vol, sig, origin, h, kind, lo, nloc, c_grid,
+                 True, 1.0 if with_force else 0.0, 0.0, g_mass, g_mom, g_force)
 
     def g2p(x, *args):
-        kind = args[10]
-        fast_g2p(stencil_tag(kind), x, *args)
+        """The reference's arguments, its run-time ``mode`` (args[14]) turned into the scheme tag."""
+        kind, mode = args[10], args[14]
+        fast_g2p(stencil_tag(kind), scheme_tag(SCHEMES[mode]), x, *args[:14], *args[15:])
 
     return p2g, g2p
 

@@ -40,7 +40,8 @@ FIELDS = ["model", "cutoff", "psi", "h", "status", "steps", "t_end", "dt_first",
 
 def use_reference_density(mat) -> None:
     """Give ``mat`` the wave speed of before issue 16, sqrt((lambda + 2G) / rho0), whatever the density."""
-    c0 = math.sqrt((mat.prm[1] + 2 * mat.prm[2]) / mat.prm[0])
+    E = mat.layout
+    c0 = math.sqrt((mat.prm[E.lam] + 2 * mat.prm[E.G]) / mat.prm[E.density])
     mat.wave_speed = lambda p_rho: c0
 
 
@@ -54,7 +55,7 @@ def run_one(model, psi, h, cfl, end, reference_density, cutoff=None):
         raw["materials"]["soil"]["model"] = model
     scene = scene_from_dict(raw, CASE.parent, sets)
     mat = scene.materials[0]
-    rho0 = float(mat.prm[0])
+    rho0 = float(mat.prm[mat.layout.density])
     if reference_density:
         use_reference_density(mat)
     sim, check = Simulation(scene), HealthCheck(scene)

@@ -26,8 +26,8 @@ sc = scene_from_file(Path(__file__).resolve().parents[2] / "cases" / "column_col
 sim = Simulation(sc)
 st = sim.state
 mat = sc.materials[0]
-prm = mat.pack(mat.params)
-rho0, lam, G = prm[0], prm[1], prm[2]
+prm, E = mat.prm, mat.layout
+rho0, lam, G = prm[E.density], prm[E.lam], prm[E.G]
 K = lam + 2*G/3
 if reference:
     use_reference_density(mat)

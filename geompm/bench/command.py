@@ -1,7 +1,8 @@
 """``geompm bench``: particle-steps per second, memory and start-up of standard scenes.
 
 Scenes are listed in ``benchmarks/scenes.json`` (name -> case, timed steps,
-optional ``variants`` of ``--set`` overrides or other cases, optional
+optional ``variants`` of ``--set`` overrides or other cases, a variant's
+``"permute": true`` to shuffle its particles before timing, optional
 ``check``).  Each measurement runs in its own process
 (``python -m geompm.bench.worker``) after a warm-up step; compilation is
 excluded from the timing and reported as start-up seconds.  With
@@ -13,7 +14,10 @@ Checks printed under the table:
 - ``spread``: time per particle-step from the smallest to the largest variant
   (linear cost: within 25 %);
 - ``domain``: each variant's time against the first (grid work only where the
-  particles are: within 20 %).
+  particles are: within 20 %);
+- ``mixed``: each ``<scene>/permuted`` variant (particles shuffled, the spatial
+  sort on) against ``<scene>/ordered`` (seeding order): within 15 %, with the
+  sort's own cost; ``<scene>/permuted_nosort`` shows what the sort buys.
 """
 
 from __future__ import annotations
@@ -30,6 +34,7 @@ from ..errors import CaseError
 
 SPREAD_LIMIT = 0.25
 DOMAIN_LIMIT = 0.20
+MIXED_LIMIT = 0.15
 
 
 def add_parser(sub) -> None:
@@ -54,24 +59,26 @@ def bench_dir(arg: str | None) -> Path:
                                "run from the repository root or pass --dir")])
 
 
-def measurements(name: str, spec: dict, folder: Path, steps: int | None) -> list[tuple[str, str, list[str], int]]:
-    """(label, case path, --set list, steps) for each measurement of a scene."""
+def measurements(name: str, spec: dict, folder: Path,
+                 steps: int | None) -> list[tuple[str, str, list[str], int, bool]]:
+    """(label, case path, --set list, steps, permute) for each measurement of a scene."""
     n = steps or int(spec["steps"])
     variants = spec.get("variants")
     if not variants:
-        return [(name, str(folder / spec["case"]), [], n)]
+        return [(name, str(folder / spec["case"]), [], n, False)]
     out = []
     for label, v in variants.items():
         if isinstance(v, dict):
-            out.append((f"{name}:{label}", str(folder / v.get("case", spec.get("case"))), list(v.get("set", [])), n))
+            out.append((f"{name}:{label}", str(folder / v.get("case", spec.get("case"))), list(v.get("set", [])), n,
+                        bool(v.get("permute", False))))
         else:
-            out.append((f"{name}:{label}", str(folder / spec["case"]), list(v), n))
+            out.append((f"{name}:{label}", str(folder / spec["case"]), list(v), n, False))
     return out
 
 
-def run_worker(case: str, sets: list[str], steps: int, env_extra: dict | None = None) -> dict:
+def run_worker(case: str, sets: list[str], steps: int, env_extra: dict | None = None, permute: bool = False) -> dict:
     """Run one measurement in a fresh process; the result, or {"error": ...}."""
-    cmd = [sys.executable, "-m", "geompm.bench.worker", case, "--steps", str(steps)]
+    cmd = [sys.executable, "-m", "geompm.bench.worker", case, "--steps", str(steps)] + (["--permute"] if permute else [])
     for s in sets:
         cmd += ["--set", s]
     env = dict(os.environ, GEOMPM_BENCH_SPAWN=repr(time.time()), **(env_extra or {}))
@@ -116,6 +123,8 @@ def check_lines(name: str, spec: dict, results: list[tuple[str, dict]]) -> list[
         verdict = "within" if abs(ratio - 1) <= SPREAD_LIMIT else "OUTSIDE"
         return [f"{name}: ns per particle-step {large[0]} / {small[0]} = {ratio:.3f} "
                 f"({verdict} the {SPREAD_LIMIT:.0%} target)"]
+    if spec["check"] == "mixed":
+        return mixed_lines(name, dict(ok))
     base_label, base = ok[0]
     lines = []
     for label, r in ok[1:]:
@@ -124,6 +133,28 @@ def check_lines(name: str, spec: dict, results: list[tuple[str, dict]]) -> list[
         verdict = "within" if ratio - 1 <= DOMAIN_LIMIT else "OUTSIDE"
         lines.append(f"{name}: {label} ({vol:.3g}x the grid cells of {base_label}) takes {ratio:.3f}x its time "
                      f"({verdict} the {DOMAIN_LIMIT:.0%} target)")
+    return lines
+
+
+def mixed_lines(name: str, by_label: dict) -> list[str]:
+    lines = []
+    for label, r in by_label.items():
+        if not label.endswith("/permuted"):
+            continue
+        scene = label[: -len("/permuted")]
+        ordered = by_label.get(f"{scene}/ordered")
+        if ordered is None:
+            continue
+        ratio = r["ns_per_particle_step"] / ordered["ns_per_particle_step"]
+        verdict = "within" if ratio - 1 <= MIXED_LIMIT else "OUTSIDE"
+        unsorted = by_label.get(f"{scene}/permuted_nosort")
+        extra = (f"; without the sort {unsorted['ns_per_particle_step'] / ordered['ns_per_particle_step']:.2f}x"
+                 if unsorted else "")
+        share = r["sort_s"] / r["wall_s"] if r["wall_s"] > 0 else 0.0
+        lines.append(f"{scene.split(':', 1)[-1]}: permuted and sorted every {r['sort_interval']} steps takes "
+                     f"{ratio:.3f}x the ordered time per particle-step ({verdict} the {MIXED_LIMIT:.0%} target){extra}; "
+                     f"the sort: {r['sort_ns_per_particle']:.0f} ns per particle per sort, {r['sorts']} sorts, "
+                     f"{share:.1%} of the timed wall")
     return lines
 
 
@@ -145,8 +176,8 @@ def cmd_bench(args) -> int:
     for name in names:
         spec = scenes[name]
         results = []
-        for label, case, sets, steps in measurements(name, spec, folder, args.steps):
-            r = run_worker(case, sets, steps)
+        for label, case, sets, steps, permute in measurements(name, spec, folder, args.steps):
+            r = run_worker(case, sets, steps, permute=permute)
             r["scene"] = label
             if spec.get("cold_start") and not args.no_cold and "error" not in r:
                 r["cold_start_s"], r["warm_start_s"] = cold_and_warm(case, sets)

@@ -1,6 +1,6 @@
 """One benchmark measurement, in its own process so that start-up and peak memory are its own.
 
-    python -m geompm.bench.worker CASE --steps N [--set KEY=VALUE ...]
+    python -m geompm.bench.worker CASE --steps N [--set KEY=VALUE ...] [--permute]
 
 Prints one JSON object.  The process does what ``geompm run`` does per step
 (time-step control, the step with the case's stages, health and domain checks;
@@ -11,6 +11,11 @@ no output is due in a benchmark case) through ``Runner.advance``:
   assembly, numba compilation or cache loading, one step;
 - two warm-up steps (the first is the start-up step), not timed;
 - ``steps`` timed steps.
+
+``--permute`` shuffles the particles of every material block (seed 0) before
+the first step, as a long flow mixes them (the ``mixed`` scene).  The time
+spent in the spatial sort (kernels/sort.py) is reported on its own, as
+``sort_s`` over the timed steps and ``sort_ns_per_particle`` per call.
 """
 
 from __future__ import annotations
@@ -35,7 +40,18 @@ def _stage_bytes(stages) -> int:
     return total
 
 
-def measure(case: str, steps: int, sets: list[str]) -> dict:
+def permute_blocks(state, seed: int = 0) -> None:
+    """Shuffle the particles inside each material block (all per-particle arrays and the state variables)."""
+    import numpy as np
+
+    rng = np.random.default_rng(seed)
+    perm = np.concatenate([a + rng.permutation(b - a) for a, b in state.blocks]) if state.blocks else np.arange(0)
+    for name, arr in state.arrays().items():
+        setattr(state, name, np.ascontiguousarray(arr[perm]))
+    state.p_state = [np.ascontiguousarray(sv[perm[a:b] - a]) for (a, b), sv in zip(state.blocks, state.p_state)]
+
+
+def measure(case: str, steps: int, sets: list[str], permute: bool = False) -> dict:
     spawn = float(os.environ.get("GEOMPM_BENCH_SPAWN", time.time()))
     import numba
     import numpy as np
@@ -48,12 +64,25 @@ def measure(case: str, steps: int, sets: list[str]) -> dict:
     t_load = time.perf_counter()
     scene = scene_from_file(case, sets)
     assemble_s = time.perf_counter() - t_load
+    if permute:
+        permute_blocks(scene.state)
     sim = Simulation(scene)
+    sort_clock = [0.0, 0]
+    sort = sim.backend.sort_particles
+
+    def timed_sort():
+        t = time.perf_counter()
+        sort()
+        sort_clock[0] += time.perf_counter() - t
+        sort_clock[1] += 1
+
+    sim.backend.sort_particles = timed_sort
     runner = Runner(sim, None, [], progress=False)
     runner.start()
     runner.advance(math.inf)
     startup_s = time.time() - spawn
     runner.advance(math.inf)
+    sort_clock[:] = [0.0, 0]
     t0 = time.perf_counter()
     for _ in range(steps):
         runner.advance(math.inf)
@@ -80,6 +109,11 @@ def measure(case: str, steps: int, sets: list[str]) -> dict:
         "model_bytes": model_bytes,
         "bytes_per_particle": model_bytes / n,
         "threads": numba.get_num_threads(),
+        "permuted": permute,
+        "sort_interval": scene.sort_interval,
+        "sorts": sort_clock[1],
+        "sort_s": sort_clock[0],
+        "sort_ns_per_particle": sort_clock[0] / max(sort_clock[1], 1) / n * 1e9,
     }
 
 
@@ -88,8 +122,9 @@ def main(argv=None) -> int:
     p.add_argument("case")
     p.add_argument("--steps", type=int, required=True)
     p.add_argument("--set", action="append", default=[])
+    p.add_argument("--permute", action="store_true", help="shuffle each material block before the first step")
     args = p.parse_args(argv)
-    print(json.dumps(measure(args.case, args.steps, args.set)))
+    print(json.dumps(measure(args.case, args.steps, args.set, args.permute)))
     return 0
 
 

@@ -8,7 +8,7 @@ update each ghost and its image are merged,
     v = (m_ghost v_ghost + m_image v_image) / (m_ghost + m_image),
 which equals folding mass, momentum and force before the update because the
 explicit update is linear per node.  The scheduler runs it before every other grid
-stage (``merges_nodes``).
+stage (``phase = MERGE``, stages.py).
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from numba import njit, prange
 from pydantic import Field
 
 from ..plugin import Params
-from ..stages import GridStage, ParticleStage
+from ..stages import MERGE, GridStage, ParticleStage
 
 
 class PeriodicParams(Params):
@@ -76,7 +76,7 @@ class Periodic(GridStage, ParticleStage):
     name = "periodic"
     description = "Periodic boundary along one axis (period = grid extent)"
     Params = PeriodicParams
-    merges_nodes = True  # the scheduler runs node-merging stages before every other grid stage
+    phase = MERGE  # folds ghost nodes onto their images before every other grid stage
 
     @classmethod
     def check(cls, params, case):

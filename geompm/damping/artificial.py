@@ -21,7 +21,7 @@ from numba import njit, prange
 from pydantic import Field
 
 from ..plugin import Params
-from ..stages import ParticleStage
+from ..stages import DAMPING, ParticleStage
 
 
 class ArtificialParams(Params):
@@ -43,6 +43,7 @@ class ArtificialDamping(ParticleStage):
     name = "artificial"
     description = "Linear artificial damping f = -zeta m v, zeta = xi/h sqrt(E/rho) (source eqs. 7-8)"
     Params = ArtificialParams
+    phase = DAMPING
 
     @classmethod
     def check(cls, params, case):

@@ -21,7 +21,7 @@ from numba import njit, prange
 from pydantic import Field
 
 from ..plugin import Params
-from ..stages import GridStage
+from ..stages import DAMPING, GridStage
 
 
 class LocalParams(Params):
@@ -47,6 +47,7 @@ class LocalDamping(GridStage):
     name = "local"
     description = "Cundall local non-viscous damping on grid nodes (quasi-static stages)"
     Params = LocalParams
+    phase = DAMPING
     needs_split_force = True  # reads the nodal force and the pre-update velocity
 
     def setup(self, scene):

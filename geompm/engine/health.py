@@ -28,6 +28,7 @@ import numpy as np
 from numba import njit, prange
 
 from ..errors import SimulationError
+from .timestep import viscous_limit, wave_speed
 
 
 @njit(parallel=True, cache=True)
@@ -95,8 +96,9 @@ def _strain_energy(scene) -> float:
 
 def describe_particle(sim, p) -> str:
     st, sc = sim.state, sim.scene
-    return (f"particle {p} (body {int(st.p_body[p])}, material '{sc.material_names[int(st.p_material[p])]}') "
-            f"at step {sim.step_count}, t = {sim.time:.6g} s")
+    material = sc.material_names[int(st.p_material[p])]
+    return (f"particle {int(st.p_id[p])} (body {int(st.p_body[p])}, material '{material}') at step "
+            f"{sim.step_count}, t = {sim.time:.6g} s")
 
 
 class HealthCheck:
@@ -106,7 +108,7 @@ class HealthCheck:
         mass = float(st.p_mass.sum())
         g = float(np.linalg.norm(scene.gravity))
         diag = float(np.linalg.norm(scene.grid.upper - scene.grid.origin))
-        v_obs = max((float(np.linalg.norm(o.vel)) for o in scene.obstacles if hasattr(o, "vel")), default=0.0)
+        v_obs = max((o.supplied_speed() for o in scene.obstacles), default=0.0)
         _, ek0, _ = health_sums(st.p_x, st.p_x0, st.p_v, st.p_stress, st.p_mass, scene.gravity)
         self.budget0 = ek0 + _strain_energy(scene) + 2.0 * mass * v_obs ** 2
         self.floor = 1e-6 * mass * max(g, 1.0) * diag
@@ -139,7 +141,7 @@ class HealthCheck:
             return
         st = sim.state
         p = int(np.argmax((st.p_v ** 2).sum(axis=1)))
-        if sc.nu_max > 0.0 and sc.grid.h ** 2 / (2 * sc.dim * sc.nu_max) <= dt * (1 + 1e-9):
+        if viscous_limit(sc) <= dt * (1 + 1e-9):
             k = int(np.argmax([m.kinematic_viscosity() for m in sc.materials]))
             cause = (f"the viscous limit h^2 / (2 d nu) with nu = {sc.nu_max:.3g} m2/s from material "
                      f"'{sc.material_names[k]}' (for 'cross' its mu_0) makes the step tiny; raise grid.cell_size "
@@ -153,8 +155,7 @@ class HealthCheck:
     def _likely_cause(self, sim) -> str:
         sc = self.scene
         if sc.dt_fixed is not None:
-            c = max((m.wave_speed(sim.state.p_rho[s:e]) for m, (s, e) in zip(sc.materials, sim.state.blocks)
-                     if e > s and np.isfinite(sim.state.p_rho[s:e]).all()), default=0.0)
+            c = wave_speed(sc, sim.state, finite_only=True)
             courant = sc.dt_fixed * c / sc.grid.h
             if courant > 1.0:
                 return (f"the fixed time.dt = {sc.dt_fixed:g} s is {courant:.2g} times the wave-crossing time "

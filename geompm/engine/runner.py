@@ -77,12 +77,12 @@ class Runner:
         self.run_dir = run_dir
         self.writers = writers
         self.progress = progress
-        opts = sim.scene.run_options
-        self.ckpt_interval = getattr(opts, "checkpoint_interval", None)
-        wall_min = getattr(opts, "checkpoint_wall_minutes", None)
+        opts = sim.scene.run_options  # schema.case.RunSpec
+        self.ckpt_interval = opts.checkpoint_interval
+        wall_min = opts.checkpoint_wall_minutes
         self.ckpt_wall = None if wall_min is None else 60.0 * wall_min
-        self.keep = getattr(opts, "keep_checkpoints", 2)
-        self.delete_outside = getattr(opts, "on_leave_domain", "error") == "delete"
+        self.keep = opts.keep_checkpoints
+        self.delete_outside = opts.on_leave_domain == "delete"
         self.due = [0.0] * len(writers)
         self.last_written = [None] * len(writers)
         self.ckpt_due = self.ckpt_interval

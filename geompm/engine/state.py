@@ -9,6 +9,8 @@ n particles, d dimensions; shapes as below, SI units:
     p_L (n, 3, 3) velocity gradient [1/s]  (the deformation gradient is not stored:
         the volume is advanced by det(I + dt L) each step, kernels/volume.py)
     p_material (n,) int32            p_body (n,) int32
+    p_id (n,) int64 stable particle id: its index in the assembled scene, carried
+        through every re-ordering (spatial sort, deletion) and written with every output
 
 Particles are sorted by material: material k owns the contiguous block
 ``blocks[k] = (start, end)``; its state variables live in ``p_state[k]``
@@ -36,6 +38,7 @@ class ParticleState:
     p_vol: np.ndarray = None
     p_rho: np.ndarray = None
     p_L: np.ndarray = None
+    p_id: np.ndarray = None
     blocks: list = field(default_factory=list)
     p_state: list = field(default_factory=list)
 
@@ -51,6 +54,8 @@ class ParticleState:
             self.p_rho = self.p_mass / self.p_vol
         if self.p_L is None:
             self.p_L = np.zeros((n, 3, 3))
+        if self.p_id is None:
+            self.p_id = np.arange(n, dtype=np.int64)
 
     @property
     def n(self) -> int:
@@ -66,6 +71,20 @@ class ParticleState:
 
     def nbytes(self) -> int:
         return sum(a.nbytes for a in self.arrays().values()) + sum(s.nbytes for s in self.p_state)
+
+    def sort_by_cell(self, origin, h) -> None:
+        """Re-order every material block by grid cell (kernels/sort.py); blocks keep their extent."""
+        from ..kernels.sort import cell_order
+
+        if self.n == 0:
+            return
+        perm = np.concatenate([cell_order(self.p_x, origin, h, a, b) for a, b in self.blocks])
+        # in place: every array keeps its identity, so a view or reference held across steps (a probe's
+        # p_state column, a stage's reference) stays attached to the state
+        for arr in self.arrays().values():
+            arr[...] = arr[perm]
+        for (a, b), sv in zip(self.blocks, self.p_state):
+            sv[...] = sv[perm[a:b] - a]
 
     def remove(self, mask: np.ndarray) -> None:
         """Delete the particles where ``mask`` is true, keeping the blocks per material contiguous."""

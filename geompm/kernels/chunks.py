@@ -1,42 +1,11 @@
-"""The private per-chunk grids of the race-free P2G (see transfer.py).
+"""The private per-chunk grids of the race-free P2G (kernels/transfer3d.py).
 
-Each chunk of particles scatters into its own grid (``c_mass (nchunks, >= nn)``,
-``c_mom``/``c_force (nchunks, >= nn, d)``); the grids are then summed in chunk
-order, so the result depends on the chunk count only.
+Each chunk of particles scatters into its own grid, interleaved per node
+(``c_grid (nchunks, >= nn, 1 + d or 1 + 2d)``); the grids are then summed in
+chunk order, so the result depends on the chunk count only.
 """
 
 from numba import njit, prange
-
-
-@njit(cache=True)
-def zero_chunk(cm, cp, cf, nn):
-    """Zero the first nn nodes of one chunk's mass, momentum and force."""
-    d = cp.shape[1]
-    for i in range(nn):
-        cm[i] = 0.0
-        for a in range(d):
-            cp[i, a] = 0.0
-            cf[i, a] = 0.0
-
-
-@njit(parallel=True, fastmath=True, cache=True)
-def sum_chunks(c_mass, c_mom, c_force, g_mass, g_mom, g_force):
-    """g_* = sum over chunks of c_*, node by node, in chunk order."""
-    nchunks = c_mass.shape[0]
-    nn, d = g_mom.shape
-    for i in prange(nn):
-        m = 0.0
-        for c in range(nchunks):
-            m += c_mass[c, i]
-        g_mass[i] = m
-        for a in range(d):
-            mv = 0.0
-            f = 0.0
-            for c in range(nchunks):
-                mv += c_mom[c, i, a]
-                f += c_force[c, i, a]
-            g_mom[i, a] = mv
-            g_force[i, a] = f
 
 
 @njit(cache=True)

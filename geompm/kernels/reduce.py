@@ -94,3 +94,14 @@ def max_projection(p_x, origin, direction):
             s += (p_x[p, a] - origin[a]) * direction[a]
         m = max(m, s)
     return m
+
+
+@njit(parallel=True, cache=True)
+def max_rate(p_L):
+    """Largest |L_ij| over the particles [1/s] (the strain-increment step limit, engine/timestep.py)."""
+    m = 0.0
+    for p in prange(p_L.shape[0]):
+        for i in range(3):
+            for j in range(3):
+                m = max(m, abs(p_L[p, i, j]))
+    return m

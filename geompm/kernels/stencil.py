@@ -14,12 +14,23 @@ from numba import njit
 
 from .shape import axis_stencil, support
 
-__all__ = ["axis_stencil", "mls_derivatives", "stencil_tag"]
+__all__ = ["SCHEMES", "axis_stencil", "mls_derivatives", "scheme_tag", "stencil_tag"]
+
+#: the velocity-transfer schemes in the order of their compile-time tags: a kernel reads
+#: ``mode = len(scheme) - 1`` (0 PIC, 1 APIC, 2 FLIP, 3 MLS), a constant numba folds into every
+#: branch on it, so each scheme runs its own specialisation with no run-time test of the scheme
+SCHEMES = ("pic", "apic", "flip", "mls")
 
 
 def stencil_tag(kind: int) -> tuple:
     """The compile-time support marker of a shape-function kind (see module docstring)."""
     return (0.0,) * support(kind)
+
+
+def scheme_tag(transfer: str) -> tuple:
+    """The compile-time marker of a transfer scheme (``SCHEMES``): a tuple whose length is its
+    position + 1."""
+    return (0.0,) * (SCHEMES.index(transfer) + 1)
 
 
 @njit(cache=True, inline="always")

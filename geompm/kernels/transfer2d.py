@@ -1,8 +1,8 @@
-"""P2G and G2P specialised for 2D (plane strain): the transfers of transfer.py
+"""P2G and G2P specialised for 2D (plane strain): the transfers of the reference tests/reference_transfer.py
 with the stencil as two nested loops, weights and APIC terms built up axis by
 axis (see transfer3d.py for the scheme, the stencil tag, the interleaved
 private grids, the folded force and MLS).  Same results to rounding as
-transfer.py with split force.
+tests/reference_transfer.py with split force.
 """
 
 import numpy as np
@@ -14,12 +14,12 @@ from .volume import update_volume
 
 
 @njit(parallel=True, fastmath=True, cache=True)
-def p2g_2d(tag, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc,
+def p2g_2d(tag, scheme, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc,
            c_grid, split, f_scale, mls_dinv, g_mass, g_mom, g_force):
-    """2D P2G: m_i, APIC momentum and f_i = -sum V_p sigma_p grad w (see transfer.p2g).
+    """2D P2G: m_i, APIC momentum and f_i = -sum V_p sigma_p grad w (see tests/reference_transfer.p2g).
 
     ``c_grid`` rows are [m, (mv)_x, (mv)_y, f_x, f_y]; ``split`` and ``f_scale`` as in
-    transfer3d.p2g_3d (folded: (mv)_i += f_scale f_i, g_force not written); ``mls_dinv > 0``:
+    transfer3d.p2g_3d (folded: (mv)_i += f_scale f_i, g_force not written); MLS (``scheme``):
     the MLS-MPM force through the pseudo-derivatives of stencil.mls_derivatives.
     """
     n = p_x.shape[0]
@@ -27,6 +27,7 @@ def p2g_2d(tag, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nlo
     width = c_grid.shape[2]
     nn = g_mass.shape[0]
     S = len(tag)
+    mls = len(scheme) == 4  # compile-time (stencil.scheme_tag)
     inv_h = 1.0 / h
     sx = nloc[1]
     for c in prange(nchunks):
@@ -38,7 +39,7 @@ def p2g_2d(tag, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nlo
             m = p_mass[p]
             ox = bx * h + origin[0] - p_x[p, 0]
             oy = by * h + origin[1] - p_x[p, 1]
-            if mls_dinv > 0.0:
+            if mls:
                 dx = mls_derivatives(wx, ox, h, mls_dinv)
                 dy = mls_derivatives(wy, oy, h, mls_dinv)
             q0 = m * (p_v[p, 0] + p_C[p, 0, 0] * ox + p_C[p, 0, 1] * oy)
@@ -75,11 +76,12 @@ def p2g_2d(tag, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nlo
 
 
 @njit(parallel=True, fastmath=True, cache=True)
-def g2p_2d(tag, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,
-           origin, h, kind, lo, nloc, dt, mode, flip_ratio, apic_dinv, set_velocity, move, do_gradient):
-    """2D G2P (see transfer.g2p); L keeps its 3x3 plane-strain form (z row and column zero)."""
+def g2p_2d(tag, scheme, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,
+           origin, h, kind, lo, nloc, dt, flip_ratio, apic_dinv, set_velocity, move, do_gradient):
+    """2D G2P (see tests/reference_transfer.g2p); L keeps its 3x3 plane-strain form (z row and column zero)."""
     n = p_x.shape[0]
     S = len(tag)
+    mode = len(scheme) - 1  # compile-time (stencil.scheme_tag)
     inv_h = 1.0 / h
     sx = nloc[1]
     nchunks = max(1, min(n, 64 * 8))
@@ -136,7 +138,7 @@ def g2p_2d(tag, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,
                 else:
                     p_v[p, 0] = v0
                     p_v[p, 1] = v1
-                if (mode == 1 or mode == 3) and apic_dinv > 0.0:
+                if (mode == 1 or mode == 3) and S > 2:  # APIC needs D: linear hats fall back to C = L
                     p_C[p, 0, 0] = (v0 * ox + h * b00) * apic_dinv
                     p_C[p, 0, 1] = (v0 * oy + h * b01) * apic_dinv
                     p_C[p, 1, 0] = (v1 * ox + h * b10) * apic_dinv

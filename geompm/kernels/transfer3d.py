@@ -1,4 +1,4 @@
-"""P2G and G2P specialised for 3D: the same transfers as transfer.py, written
+"""P2G and G2P specialised for 3D: the same transfers as the reference tests/reference_transfer.py, written
 with the stencil as three nested loops so that the tensor-product weights,
 gradients and APIC terms are built up axis by axis.
 
@@ -9,9 +9,10 @@ m (v + C (x_i - x_p)) is advanced by one column of m C h per node step, so a
 node costs about 20 flops (P2G, force folded) and 18 flops (G2P).  Weights
 are register tuples and the support a compile-time constant (``tag``,
 stencil.py).  Same particle arrays and, with split force, the same results to
-rounding as transfer.py (tests/test_transfer_specialised.py); the private P2G
+rounding as the reference (tests/test_transfer_specialised.py); the private P2G
 grids are interleaved (``c_grid``), and P2G may fold the force into the
-momentum (engine/grid.py).  ``mode`` 3 is MLS-MPM (Hu et al. 2018): the
+momentum (engine/grid.py).  ``scheme`` (stencil.scheme_tag) selects PIC, APIC, FLIP or MLS at
+compile time; MLS-MPM (Hu et al. 2018): the
 force through grad w ~ D^-1 w (x_i - x_p) and L = C.
 """
 
@@ -24,16 +25,16 @@ from .volume import update_volume
 
 
 @njit(parallel=True, fastmath=True, cache=True)
-def p2g_3d(tag, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc,
+def p2g_3d(tag, scheme, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc,
            c_grid, split, f_scale, mls_dinv, g_mass, g_mom, g_force):
-    """3D P2G: m_i, APIC momentum and f_i = -sum V_p sigma_p grad w (see transfer.p2g).
+    """3D P2G: m_i, APIC momentum and f_i = -sum V_p sigma_p grad w (see tests/reference_transfer.p2g).
 
     ``c_grid (nchunks, >= nn, 4 or 7)``: the private grids, interleaved per node as
     [m, (mv)_x, (mv)_y, (mv)_z, f_x, f_y, f_z].  ``split``: the force goes to its own
     columns, scaled by ``f_scale`` (1, or 0 for the MUSL re-map) and then to g_force.
     Otherwise it is folded into the momentum, (mv)_i += f_scale f_i with f_scale = dt,
     and g_force is not written: 4 instead of 7 updates per node (docs/performance.md).
-    ``mls_dinv > 0``: the MLS-MPM force (Hu et al. 2018), grad w replaced by D^-1 w (x_i - x_p)
+    MLS (``scheme``, stencil.scheme_tag): the MLS-MPM force (Hu et al. 2018), grad w replaced by D^-1 w (x_i - x_p)
     with D^-1 = mls_dinv [1/m2]; folded, it is an affine term and costs nothing per node.
     """
     n = p_x.shape[0]
@@ -44,7 +45,7 @@ def p2g_3d(tag, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nlo
     inv_h = 1.0 / h
     sy = nloc[2]
     sx = nloc[1] * nloc[2]
-    mls = mls_dinv > 0.0
+    mls = len(scheme) == 4  # compile-time (stencil.scheme_tag)
     affine_force = mls and not split
     for c in prange(nchunks):
         g = c_grid[c]
@@ -138,9 +139,9 @@ def p2g_3d(tag, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nlo
 
 
 @njit(parallel=True, fastmath=True, cache=True)
-def g2p_3d(tag, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,
-           origin, h, kind, lo, nloc, dt, mode, flip_ratio, apic_dinv, set_velocity, move, do_gradient):
-    """3D G2P (see transfer.g2p for the modes and flags).
+def g2p_3d(tag, scheme, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,
+           origin, h, kind, lo, nloc, dt, flip_ratio, apic_dinv, set_velocity, move, do_gradient):
+    """3D G2P (see tests/reference_transfer.g2p for the modes and flags).
 
     The APIC sum  B = sum w v_i (x_i - x_p)^T  is split as
     (sum w v_i) o^T + h (sum w v_i (i, j, k)^T), o the first node's offset.
@@ -151,6 +152,7 @@ def g2p_3d(tag, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,
     sy = nloc[2]
     sx = nloc[1] * nloc[2]
     nchunks = max(1, min(n, 64 * 8))
+    mode = len(scheme) - 1  # compile-time (stencil.scheme_tag)
     flip = mode == 2
     mls = mode == 3
     for c in prange(nchunks):
@@ -185,7 +187,7 @@ def g2p_3d(tag, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,
             if flip:  # a pass of its own: in the loop above the branch cost 16 % of G2P
                 d0, d1, d2 = _flip_increment(S, wx, wy, wz, base, sx, sy, g_vel, g_vel_old)
             _finish(p, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, origin, h, bx, by, bz,
-                    v0, v1, v2, d0, d1, d2, L, B, dt, mode, flip_ratio, apic_dinv, set_velocity, move,
+                    v0, v1, v2, d0, d1, d2, L, B, dt, S, mode, flip_ratio, apic_dinv, set_velocity, move,
                     do_gradient)
 
 
@@ -339,7 +341,7 @@ def _flip_increment(S, wx, wy, wz, base, sx, sy, g_vel, g_vel_old):
 
 @njit(cache=True, inline="always")
 def _finish(p, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, origin, h, bx, by, bz,
-            v0, v1, v2, d0, d1, d2, L, B, dt, mode, flip_ratio, apic_dinv, set_velocity, move, do_gradient):
+            v0, v1, v2, d0, d1, d2, L, B, dt, S, mode, flip_ratio, apic_dinv, set_velocity, move, do_gradient):
     """Per-particle end of G2P: C from B, velocity, position, then L, volume and density."""
     if set_velocity:
         vp = (v0, v1, v2)
@@ -352,7 +354,7 @@ def _finish(p, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, origin, h, bx, by, bz,
                 p_v[p, a] = vp[a]
             for b in range(3):
                 if mode == 1 or mode == 3:
-                    if apic_dinv > 0.0:
+                    if S > 2:  # APIC needs D: linear hats fall back to C = L
                         p_C[p, a, b] = (vp[a] * o[b] + h * B[a, b]) * apic_dinv
                     else:
                         p_C[p, a, b] = L[a, b]

@@ -4,20 +4,27 @@ A material is a ``Plugin`` with:
 
 - ``Params``: pydantic model of its parameters (SI units, bounds as validators);
 - ``state_vars``: names of its per-particle state variables (``p_state (n, k)``);
-- ``pack(params) -> float64[:]``: the parameters as a flat array for the kernels;
-- ``stress_kernel(prm, dt, p_L, p_rho, p_stress, p_state)``: a numba function that
-  updates the stress of a contiguous block of particles in place, given the
-  velocity gradient ``p_L (n, 3, 3)`` [1/s] and current density ``p_rho (n,)``;
-- ``wave_speed_kernel(prm, p_rho) -> float``: the largest speed [m/s] at which
-  information travels in the block (elastic P-wave or acoustic), for the CFL step;
+- ``layout``: the names of its packed parameters (layout.py), read in the kernels as
+  ``prm[LAYOUT.name]``;
+- ``pack(params) -> dict``: those parameters by name (SI units), derived from ``Params``;
+- ``particle_stress(prm, dt, L, rho, s, state)``: an ``@njit`` function (no explicit
+  signature) that updates ONE particle's Cauchy stress ``s (6,)`` (Voigt, tension
+  positive) [Pa] and state ``state (k,)`` in place, from its velocity gradient
+  ``L (3, 3)`` [1/s] and current density ``rho`` [kg/m3].  It allocates nothing,
+  calls no LAPACK and touches no Python object, so numba inlines it into the
+  backend's loop over the block (backend/cpu_loops.py) and a GPU compiler can take
+  it as a device function;
+- ``particle_wave_speed(prm, rho) -> float``: an ``@njit`` function, the speed [m/s]
+  at which information travels through one particle (elastic P-wave or acoustic),
+  for the CFL step (the backend takes the maximum over the block);
 - ``kinematic_viscosity()``: the largest mu/rho [m2/s], for the viscous step limit
   dt <= h^2 / (2 d nu) (zero for rate-independent laws);
 - ``k0()``: the at-rest earth pressure coefficient sigma_h / sigma_v used for
   geostatic initial stress;
 - ``stiffness()``: the modulus E [Pa] used by artificial damping, zeta = xi/h sqrt(E/rho).
 
-The scheduler sorts particles by material and calls ``update_stress`` once per
-material block: one compiled loop per law, no per-particle dispatch.
+Particles are sorted by material; the backend runs one compiled loop per
+material block: no per-particle dispatch, and the law never owns a loop.
 """
 
 from __future__ import annotations
@@ -28,6 +35,7 @@ import numpy as np
 from pydantic import Field
 
 from ..plugin import Params, Plugin
+from .layout import pack_in_layout, param_layout
 
 
 class MaterialParams(Params):
@@ -40,17 +48,21 @@ class Material(Plugin):
     #: whether stress depends on the deformation rate (then stress can change at zero L)
     rate_dependent: ClassVar[bool] = False
 
+    #: names of the packed parameters (layout.py)
+    layout: ClassVar = param_layout("density")
+    #: the per-particle @njit functions (module docstring)
+    particle_stress: ClassVar = None
+    particle_wave_speed: ClassVar = None
+
     def __init__(self, params):
         self.params = params
-        self.prm = np.ascontiguousarray(self.pack(params), dtype=np.float64)
+        self.prm = pack_in_layout(self.layout, self.pack(params), self.name)
 
     # -- to be provided by each law -------------------------------------------------
     @classmethod
-    def pack(cls, params) -> np.ndarray:
+    def pack(cls, params) -> dict:
+        """The kernel parameters by layout name, computed from the validated ``params``."""
         raise NotImplementedError
-
-    stress_kernel = None
-    wave_speed_kernel = None
 
     @classmethod
     def example_params(cls):
@@ -80,7 +92,14 @@ class Material(Plugin):
         return np.zeros((n, len(self.state_vars)))
 
     def update_stress(self, dt, p_L, p_rho, p_stress, p_state) -> None:
-        type(self).stress_kernel(self.prm, dt, p_L, p_rho, p_stress, p_state)
+        """Advance the stress of a block of particles in place, through the backend's loop (the one
+        the engine runs)."""
+        from ..backend.cpu_loops import block_loops
+
+        block_loops(type(self))[0](self.prm, dt, p_L, p_rho, p_stress, p_state)
 
     def wave_speed(self, p_rho) -> float:
-        return float(type(self).wave_speed_kernel(self.prm, p_rho))
+        """Largest wave speed [m/s] over a block of particles with densities ``p_rho``."""
+        from ..backend.cpu_loops import block_loops
+
+        return float(block_loops(type(self))[1](self.prm, p_rho))

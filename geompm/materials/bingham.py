@@ -18,12 +18,16 @@ from __future__ import annotations
 
 import math
 
-from numba import njit, prange
+from numba import njit
 from pydantic import Field
 
 from .base import MaterialParams
 from .fluid import set_fluid_stress, shear_rate
-from .tait import TaitFluid, tait_pressure
+from .layout import param_layout
+from .tait import EOS, TaitFluid, eos_pressure
+
+#: packed parameters: EOS, mu_B [Pa s], tau_B [Pa], M [s]
+BINGHAM = param_layout(EOS, "viscosity", "yield_stress", "regularisation_time")
 
 
 class BinghamParams(MaterialParams):
@@ -43,14 +47,13 @@ def bingham_viscosity(gdot, mu_b, tau_b, m):
     return mu_b + tau_b * (1.0 - math.exp(-x)) / gdot
 
 
-@njit(parallel=True, fastmath=True, cache=True)
-def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
-    rho0, c, r, mu_b, tau_b, m = prm[0], prm[1], prm[2], prm[3], prm[4], prm[5]
-    for p in prange(p_L.shape[0]):
-        gdot = shear_rate(p_L[p])
-        mu = bingham_viscosity(gdot, mu_b, tau_b, m)
-        set_fluid_stress(p_stress[p], p_L[p], tait_pressure(p_rho[p], rho0, c, r), mu)
-        p_state[p, 0] = gdot
+@njit(fastmath=True, cache=True)
+def bingham_stress(prm, dt, L, rho, s, state):
+    """One particle's regularised Bingham stress; s (6,) and state (1,) in place."""
+    gdot = shear_rate(L)
+    mu = bingham_viscosity(gdot, prm[BINGHAM.viscosity], prm[BINGHAM.yield_stress], prm[BINGHAM.regularisation_time])
+    set_fluid_stress(s, L, eos_pressure(prm, rho), mu)
+    state[0] = gdot
 
 
 class Bingham(TaitFluid):
@@ -58,11 +61,13 @@ class Bingham(TaitFluid):
     description = "Bingham viscoplastic fluid (Papanastasiou-regularised) with Tait EOS pressure"
     Params = BinghamParams
     state_vars = ("shear_rate",)
-    stress_kernel = _stress
+    layout = BINGHAM
+    particle_stress = bingham_stress
 
     @classmethod
     def pack(cls, p):
-        return cls.pack_eos(p, p.viscosity, p.yield_stress, p.regularisation_time)
+        return cls.pack_eos(p, viscosity=p.viscosity, yield_stress=p.yield_stress,
+                            regularisation_time=p.regularisation_time)
 
     @classmethod
     def example_params(cls):

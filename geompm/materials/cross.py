@@ -19,13 +19,17 @@ dt <= rho h^2 / (2 d mu_0), which is small: see docs/materials.md.
 
 from __future__ import annotations
 
-from numba import njit, prange
+from numba import njit
 from pydantic import Field, model_validator
 
 from ..plugin import Params
 from .base import MaterialParams
 from .fluid import set_fluid_stress, shear_rate
-from .tait import TaitFluid, tait_pressure
+from .layout import param_layout
+from .tait import EOS, TaitFluid, eos_pressure
+
+#: packed parameters: EOS, mu_0 and mu_inf [Pa s], A [s], m [-]
+CROSS = param_layout(EOS, "viscosity_zero", "viscosity_infinity", "time_constant", "rate_exponent")
 
 
 class BinghamMapping(Params):
@@ -67,15 +71,15 @@ def cross_viscosity(gdot, mu0, mu_inf, A, m):
     return (mu0 + x * mu_inf) / (1.0 + x)
 
 
-@njit(parallel=True, fastmath=True, cache=True)
-def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
-    rho0, c, r, mu0, mu_inf, A, m = prm[0], prm[1], prm[2], prm[3], prm[4], prm[5], prm[6]
-    for p in prange(p_L.shape[0]):
-        gdot = shear_rate(p_L[p])
-        mu = cross_viscosity(gdot, mu0, mu_inf, A, m)
-        set_fluid_stress(p_stress[p], p_L[p], tait_pressure(p_rho[p], rho0, c, r), mu)
-        p_state[p, 0] = gdot
-        p_state[p, 1] = mu
+@njit(fastmath=True, cache=True)
+def cross_stress(prm, dt, L, rho, s, state):
+    """One particle's Cross stress (eq. 6); s (6,) and state (2,) in place."""
+    gdot = shear_rate(L)
+    mu = cross_viscosity(gdot, prm[CROSS.viscosity_zero], prm[CROSS.viscosity_infinity], prm[CROSS.time_constant],
+                         prm[CROSS.rate_exponent])
+    set_fluid_stress(s, L, eos_pressure(prm, rho), mu)
+    state[0] = gdot
+    state[1] = mu
 
 
 class Cross(TaitFluid):
@@ -83,11 +87,13 @@ class Cross(TaitFluid):
     description = "Generalized Cross shear-thinning fluid with Tait EOS pressure (source eq. 6)"
     Params = CrossParams
     state_vars = ("shear_rate", "effective_viscosity")
-    stress_kernel = _stress
+    layout = CROSS
+    particle_stress = cross_stress
 
     @classmethod
     def pack(cls, p):
-        return cls.pack_eos(p, p.viscosity_zero, p.viscosity_infinity, p.time_constant, p.rate_exponent)
+        return cls.pack_eos(p, viscosity_zero=p.viscosity_zero, viscosity_infinity=p.viscosity_infinity,
+                            time_constant=p.time_constant, rate_exponent=p.rate_exponent)
 
     @classmethod
     def example_params(cls):

@@ -32,12 +32,17 @@ import math
 from typing import Literal
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 from pydantic import Field, model_validator
 
-from .plasticity import ElastoplasticParams, FrictionalMaterial, elastic_trial, set_scaled_deviator, sqrt_j2
+from .layout import param_layout
+from .plasticity import ELASTIC, ElastoplasticParams, FrictionalMaterial, elastic_trial, set_scaled_deviator, sqrt_j2
 
 SQ3 = math.sqrt(3.0)
+
+#: packed parameters: ELASTIC, the cone alpha [-] and k [Pa], the potential's beta [-], the largest
+#: mean stress [Pa] and the dilatancy cut-off eps_v^p [-] (inf: none)
+DP = param_layout(ELASTIC, "alpha", "k", "beta", "tension_cutoff", "dilation_cutoff")
 
 
 class DruckerPragerParams(ElastoplasticParams):
@@ -67,45 +72,45 @@ def dp_coefficients(angle_deg: float, cone: str) -> tuple[float, float]:
     return 0.5 * (out[0] + inn[0]), 0.5 * (out[1] + inn[1])
 
 
-@njit(parallel=True, fastmath=False, cache=True)
-def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
-    lam, G, alpha, k, beta_psi, tcut, vcut = prm[1], prm[2], prm[3], prm[4], prm[5], prm[6], prm[7]
+@njit(cache=True)
+def dp_stress(prm, dt, L, rho, s, state):
+    """One particle's DP return (module docstring); s (6,) and state (2,) in place."""
+    lam, G, alpha, k = prm[DP.lam], prm[DP.G], prm[DP.alpha], prm[DP.k]
+    tcut = prm[DP.tension_cutoff]
     K = lam + 2.0 * G / 3.0
-    for p in prange(p_L.shape[0]):
-        s = p_stress[p]
-        beta = beta_psi if p_state[p, 1] < vcut else 0.0  # dilatancy cut-off: isochoric past it
-        tr = elastic_trial(s, p_L[p], dt, lam, G)
-        I1 = tr[0] + tr[1] + tr[2]
-        mean = I1 / 3.0
-        tau = sqrt_j2(tr, mean)
-        f = tau + alpha * I1 - k
-        if f <= 0.0 and mean <= tcut:
-            for i in range(6):
-                s[i] = tr[i]
-            continue
-        if f > 0.0:
-            dlam = f / (G + 9.0 * K * alpha * beta)
-            if tau - G * dlam >= 0.0:
-                scale = 1.0 - G * dlam / tau
-                I1n = I1 - 9.0 * K * beta * dlam
-                p_state[p, 0] += dlam / SQ3
-                p_state[p, 1] += 3.0 * beta * dlam
-            else:  # apex return
-                scale = 0.0
-                I1n = k / alpha if alpha > 0.0 else I1
-                p_state[p, 0] += tau / (SQ3 * G)
-                p_state[p, 1] += (I1 - I1n) / (3.0 * K)
-        else:
-            scale = 1.0
-            I1n = I1
-        if I1n / 3.0 > tcut:  # tension cut-off, then back inside the cone
-            p_state[p, 1] += (I1n - 3.0 * tcut) / (3.0 * K)
-            I1n = 3.0 * tcut
-            tmax = k - alpha * I1n
-            t_now = tau * scale
-            if t_now > tmax:
-                scale = max(tmax, 0.0) / tau if tau > 0.0 else 0.0
-        set_scaled_deviator(s, tr, mean, scale, I1n / 3.0)
+    beta = prm[DP.beta] if state[1] < prm[DP.dilation_cutoff] else 0.0  # dilatancy cut-off: isochoric past it
+    tr = elastic_trial(s, L, dt, lam, G)
+    I1 = tr[0] + tr[1] + tr[2]
+    mean = I1 / 3.0
+    tau = sqrt_j2(tr, mean)
+    f = tau + alpha * I1 - k
+    if f <= 0.0 and mean <= tcut:
+        for i in range(6):
+            s[i] = tr[i]
+        return
+    if f > 0.0:
+        dlam = f / (G + 9.0 * K * alpha * beta)
+        if tau - G * dlam >= 0.0:
+            scale = 1.0 - G * dlam / tau
+            I1n = I1 - 9.0 * K * beta * dlam
+            state[0] += dlam / SQ3
+            state[1] += 3.0 * beta * dlam
+        else:  # apex return
+            scale = 0.0
+            I1n = k / alpha if alpha > 0.0 else I1
+            state[0] += tau / (SQ3 * G)
+            state[1] += (I1 - I1n) / (3.0 * K)
+    else:
+        scale = 1.0
+        I1n = I1
+    if I1n / 3.0 > tcut:  # tension cut-off, then back inside the cone
+        state[1] += (I1n - 3.0 * tcut) / (3.0 * K)
+        I1n = 3.0 * tcut
+        tmax = k - alpha * I1n
+        t_now = tau * scale
+        if t_now > tmax:
+            scale = max(tmax, 0.0) / tau if tau > 0.0 else 0.0
+    set_scaled_deviator(s, tr, mean, scale, I1n / 3.0)
 
 
 class DruckerPrager(FrictionalMaterial):
@@ -113,17 +118,18 @@ class DruckerPrager(FrictionalMaterial):
     description = "Drucker-Prager elastic-perfectly plastic soil, non-associated, MC-matched cone"
     Params = DruckerPragerParams
     state_vars = ("plastic_strain", "plastic_volumetric_strain")
-    stress_kernel = _stress
+    layout = DP
+    particle_stress = dp_stress
 
     @classmethod
     def pack(cls, p):
-        lam, G = p.lame()
         alpha, kc = dp_coefficients(p.friction_angle, p.cone)
         beta, _ = dp_coefficients(p.dilation_angle, p.cone)
         k = kc * p.cohesion
         apex = k / (3 * alpha) if alpha > 0 else np.inf
         tcut = apex if p.tension_cutoff is None else min(p.tension_cutoff, apex)
-        return np.array([p.density, lam, G, alpha, k, beta, tcut, p.cutoff()])
+        return {**cls.elastic_pack(p), "alpha": alpha, "k": k, "beta": beta, "tension_cutoff": tcut,
+                "dilation_cutoff": p.cutoff()}
 
     @classmethod
     def example_params(cls):

@@ -11,12 +11,11 @@ P-wave speed c_p = sqrt((lambda + 2 G) / rho) bounds the time step.
 
 from __future__ import annotations
 
-import numpy as np
-from numba import njit, prange
+from numba import njit
 from pydantic import Field
 
 from .base import Material, MaterialParams
-from .plasticity import elastic_trial, elastic_wave_speed
+from .plasticity import ELASTIC, elastic_trial, elastic_wave_speed
 
 
 class LinearElasticParams(MaterialParams):
@@ -24,28 +23,26 @@ class LinearElasticParams(MaterialParams):
     poisson_ratio: float = Field(gt=-1.0, lt=0.5, description="Poisson's ratio nu [-], -1 < nu < 0.5")
 
 
-@njit(parallel=True, fastmath=True, cache=True)
-def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
-    lam, G = prm[1], prm[2]
-    for p in prange(p_L.shape[0]):
-        tr = elastic_trial(p_stress[p], p_L[p], dt, lam, G)
-        for i in range(6):
-            p_stress[p, i] = tr[i]
+@njit(fastmath=True, cache=True)
+def elastic_stress(prm, dt, L, rho, s, state):
+    """One particle's Jaumann-rate Hooke update; s (6,) in place."""
+    tr = elastic_trial(s, L, dt, prm[ELASTIC.lam], prm[ELASTIC.G])
+    for i in range(6):
+        s[i] = tr[i]
 
 
 class LinearElastic(Material):
     name = "linear_elastic"
     description = "Isotropic linear elasticity (Hooke) in rate form with the Jaumann stress rate"
     Params = LinearElasticParams
-    stress_kernel = _stress
-    wave_speed_kernel = elastic_wave_speed
+    layout = ELASTIC
+    particle_stress = elastic_stress
+    particle_wave_speed = elastic_wave_speed
 
     @classmethod
     def pack(cls, params):
         E, nu = params.youngs_modulus, params.poisson_ratio
-        lam = E * nu / ((1 + nu) * (1 - 2 * nu))
-        g = E / (2 * (1 + nu))
-        return np.array([params.density, lam, g])
+        return {"density": params.density, "lam": E * nu / ((1 + nu) * (1 - 2 * nu)), "G": E / (2 * (1 + nu))}
 
     @classmethod
     def example_params(cls):

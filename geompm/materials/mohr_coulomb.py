@@ -20,12 +20,15 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-from numba import njit, prange
+from numba import njit
 from pydantic import model_validator
 
 from ..kernels.eigen3 import sym_eig3
-from .plasticity import ElastoplasticParams, FrictionalMaterial, elastic_trial
+from .layout import param_layout
+from .plasticity import ELASTIC, ElastoplasticParams, FrictionalMaterial, elastic_trial
+
+#: packed parameters: ELASTIC, sin and cos of phi, sin psi, cohesion c [Pa], dilatancy cut-off eps_v^p [-]
+MC = param_layout(ELASTIC, "sin_phi", "cos_phi", "sin_psi", "cohesion", "dilation_cutoff")
 
 
 class MohrCoulombParams(ElastoplasticParams):
@@ -109,27 +112,24 @@ def _rebuild(s, w0, w1, w2, x0, y0, z0, x1, y1, z1, x2, y2, z2):
     s[5] = w0 * x0 * z0 + w1 * x1 * z1 + w2 * x2 * z2
 
 
-@njit(parallel=True, cache=True)
-def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
-    lam, G, sphi, cphi, spsi_law, c, vcut = prm[1], prm[2], prm[3], prm[4], prm[5], prm[6], prm[7]
-    n = p_L.shape[0]
-    nchunks = max(1, min(n, 256))
-    for ch in prange(nchunks):
-        for p in range(ch * n // nchunks, (ch + 1) * n // nchunks):
-            s = p_stress[p]
-            spsi = spsi_law if p_state[p, 1] < vcut else 0.0  # dilatancy cut-off: isochoric past it
-            tr = elastic_trial(s, p_L[p], dt, lam, G)
-            # Voigt order (xx, yy, zz, xy, yz, xz); eigenvalues ascending: w[2] = sigma_1
-            e = sym_eig3(tr[0], tr[1], tr[2], tr[3], tr[4], tr[5])
-            r1, r2, r3, deq, dvol = mc_principal_return(e[2], e[1], e[0], lam, G, sphi, cphi, spsi, c)
-            if deq == 0.0 and dvol == 0.0:
-                for i in range(6):
-                    s[i] = tr[i]
-                continue
-            p_state[p, 0] += deq
-            p_state[p, 1] += dvol
-            # sigma = sum_k r_k v_k v_k^T with the trial stress's principal directions v_k (columns)
-            _rebuild(s, r3, r2, r1, e[3], e[4], e[5], e[6], e[7], e[8], e[9], e[10], e[11])
+@njit(cache=True)
+def mc_stress(prm, dt, L, rho, s, state):
+    """One particle's MC return in principal space (module docstring); s (6,) and state (2,) in place."""
+    lam, G = prm[MC.lam], prm[MC.G]
+    spsi = prm[MC.sin_psi] if state[1] < prm[MC.dilation_cutoff] else 0.0  # dilatancy cut-off
+    tr = elastic_trial(s, L, dt, lam, G)
+    # Voigt order (xx, yy, zz, xy, yz, xz); eigenvalues ascending: w[2] = sigma_1
+    e = sym_eig3(tr[0], tr[1], tr[2], tr[3], tr[4], tr[5])
+    r1, r2, r3, deq, dvol = mc_principal_return(e[2], e[1], e[0], lam, G, prm[MC.sin_phi], prm[MC.cos_phi],
+                                                spsi, prm[MC.cohesion])
+    if deq == 0.0 and dvol == 0.0:
+        for i in range(6):
+            s[i] = tr[i]
+        return
+    state[0] += deq
+    state[1] += dvol
+    # sigma = sum_k r_k v_k v_k^T with the trial stress's principal directions v_k (columns)
+    _rebuild(s, r3, r2, r1, e[3], e[4], e[5], e[6], e[7], e[8], e[9], e[10], e[11])
 
 
 class MohrCoulomb(FrictionalMaterial):
@@ -137,14 +137,14 @@ class MohrCoulomb(FrictionalMaterial):
     description = "Mohr-Coulomb elastic-perfectly plastic soil, exact return to the hexagon with corners"
     Params = MohrCoulombParams
     state_vars = ("plastic_strain", "plastic_volumetric_strain")
-    stress_kernel = _stress
+    layout = MC
+    particle_stress = mc_stress
 
     @classmethod
     def pack(cls, p):
-        lam, G = p.lame()
         phi, psi = math.radians(p.friction_angle), math.radians(p.dilation_angle)
-        return np.array([p.density, lam, G, math.sin(phi), math.cos(phi), math.sin(psi), p.cohesion,
-                         p.cutoff()])
+        return {**cls.elastic_pack(p), "sin_phi": math.sin(phi), "cos_phi": math.cos(phi),
+                "sin_psi": math.sin(psi), "cohesion": p.cohesion, "dilation_cutoff": p.cutoff()}
 
     @classmethod
     def example_params(cls):

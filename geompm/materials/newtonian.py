@@ -10,12 +10,16 @@ objective by construction.  Viscous time-step limit dt <= rho h^2 / (2 d mu).
 
 from __future__ import annotations
 
-from numba import njit, prange
+from numba import njit
 from pydantic import Field
 
 from .base import MaterialParams
 from .fluid import set_fluid_stress
-from .tait import TaitFluid, tait_pressure
+from .layout import param_layout
+from .tait import EOS, TaitFluid, eos_pressure
+
+#: packed parameters: EOS, dynamic viscosity mu [Pa s]
+NEWTONIAN = param_layout(EOS, "viscosity")
 
 
 class NewtonianParams(MaterialParams):
@@ -24,24 +28,22 @@ class NewtonianParams(MaterialParams):
     eos_exponent: float = Field(7.0, ge=1.0, le=15.0, description="Exponent r of the Tait EOS [-]")
 
 
-@njit(parallel=True, fastmath=True, cache=True)
-def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
-    rho0, c, r, mu = prm[0], prm[1], prm[2], prm[3]
-    for p in prange(p_L.shape[0]):
-        L = p_L[p]
-        s = p_stress[p]
-        set_fluid_stress(s, L, tait_pressure(p_rho[p], rho0, c, r), mu)
+@njit(fastmath=True, cache=True)
+def newtonian_stress(prm, dt, L, rho, s, state):
+    """One particle's Newtonian stress -P(rho) I + 2 mu D'; s (6,) in place."""
+    set_fluid_stress(s, L, eos_pressure(prm, rho), prm[NEWTONIAN.viscosity])
 
 
 class Newtonian(TaitFluid):
     name = "newtonian"
     description = "Weakly compressible Newtonian fluid: Tait EOS pressure plus viscous stress"
     Params = NewtonianParams
-    stress_kernel = _stress
+    layout = NEWTONIAN
+    particle_stress = newtonian_stress
 
     @classmethod
     def pack(cls, params):
-        return cls.pack_eos(params, params.viscosity)
+        return cls.pack_eos(params, viscosity=params.viscosity)
 
     @classmethod
     def example_params(cls):

@@ -1,8 +1,8 @@
 """Shared pieces of the elastoplastic laws: elastic constants, elastic predictor,
 the deviator scaling of a radial return, the elastic wave speed and a base class.
 
-Kernels that use ``elastic_wave_speed`` pack their parameters as
-[density, lambda, G, ...].
+Laws that use ``elastic_wave_speed`` start their parameter layout from
+``ELASTIC`` (density, lam, G).
 
 The trial stress of a step is the Jaumann-rotated old stress plus the elastic
 increment:  sigma_tr = sigma_n + dt (W sigma - sigma W) + dt (lambda tr(D) I + 2 G D).
@@ -16,6 +16,10 @@ from pydantic import Field
 
 from ..kernels.voigt import jaumann_increment
 from .base import Material, MaterialParams
+from .layout import param_layout
+
+#: the first slots of every law with an isotropic elastic part: rho0 [kg/m3], Lame lambda and G [Pa]
+ELASTIC = param_layout("density", "lam", "G")
 
 
 class ElastoplasticParams(MaterialParams):
@@ -80,24 +84,26 @@ def set_scaled_deviator(s, tr, mean, scale, new_mean):
 
 
 @njit(cache=True)
-def elastic_wave_speed(prm, p_rho):
-    """Largest P-wave speed sqrt((lambda + 2G) / rho_p) [m/s] over the particles, at each
-    particle's current density rho_p, for prm = [rho0, lambda, G, ...].
+def elastic_wave_speed(prm, rho):
+    """P-wave speed sqrt((lambda + 2G) / min(rho, rho0)) [m/s] of a particle at its current
+    density rho, for a law whose layout starts with ELASTIC.
 
     The elastic moduli do not depend on the density, so a particle that has dilated
-    (rho_p < rho0) carries a faster wave than the reference one: a dilatant soil at
+    (rho < rho0) carries a faster wave than the reference one: a dilatant soil at
     large shear strain does exactly that (docs/stability.md)."""
-    rho_min = prm[0]
-    for p in range(p_rho.shape[0]):
-        if p_rho[p] < rho_min:
-            rho_min = p_rho[p]
-    return math.sqrt((prm[1] + 2.0 * prm[2]) / rho_min)
+    return math.sqrt((prm[ELASTIC.lam] + 2.0 * prm[ELASTIC.G]) / min(rho, prm[ELASTIC.density]))
 
 
 class FrictionalMaterial(Material):
     """Base of the Mohr-Coulomb-type soil laws (ElastoplasticParams)."""
 
-    wave_speed_kernel = elastic_wave_speed
+    particle_wave_speed = elastic_wave_speed
+
+    @staticmethod
+    def elastic_pack(p) -> dict:
+        """The ELASTIC slots of a law with youngs_modulus and poisson_ratio."""
+        lam, G = p.lame()
+        return {"density": p.density, "lam": lam, "G": G}
 
     def k0(self) -> float:
         """Jaky (1944): K0 = 1 - sin(phi)."""

@@ -93,6 +93,14 @@ class CylinderObstacle(SphereObstacle):
             out.append(("length", "a 3D cylinder needs its 'length' along 'axis'"))
         return out
 
+    def warnings(self) -> list[str]:
+        out = super().warnings()
+        if self.dim == 2:  # a 2D cylinder is a disc in the x-y plane: axis and length would do nothing
+            out += [f"{self.json_path}.{k}: applies to 3D cases only (in 2D the cylinder is a disc in the x-y "
+                    "plane); it has no effect: remove it" for k in ("axis", "length")
+                    if k in self.params.model_fields_set]
+        return out
+
     def bounds(self):
         lo, hi = super().bounds()
         if self.dim == 3:

@@ -28,7 +28,7 @@ from pydantic import Field
 from ..boundaries.contact import CONDITIONS
 from ..errors import CaseError
 from ..plugin import Params, vector_length_problems
-from ..stages import GridStage, ParticleStage
+from ..stages import OBSTACLE, GridStage, ParticleStage
 from .contact_force import contact_and_record
 from .guard import guard_particles, guard_spacing, lattice_points
 from .sdf_field import interp_field, sdf_lattice
@@ -101,6 +101,7 @@ class RigidObstacle(GridStage, ParticleStage):
     guard of guard.py, after G2P); the force history is the sum of both."""
 
     Params = ObstacleParams
+    phase = OBSTACLE
 
     @classmethod
     def check(cls, params, case):
@@ -143,13 +144,14 @@ class RigidObstacle(GridStage, ParticleStage):
         self.guard_out = np.zeros(2 * scene.dim + 5)
         self.force = np.zeros(scene.dim)
         self.peak = (0.0, 0.0)  # (|F|, time)
-        self.nodes_in_contact = 0
+        self.fn = self.ft = 0.0  # normal and tangential force magnitudes [N, N/m in 2D]
+        self.moment = np.zeros(3)
         self.particles_put_back = 0  # by the guard, over the run
         self.max_depth = 0.0  # deepest penetration the guard corrected [m]
 
     def apply_grid(self, view, dt, time, remap):
         shift = self.vel * time
-        self.nodes_in_contact = obstacle_apply(
+        obstacle_apply(
             view.g_vel, view.g_mass, self.grid.origin, self.grid.h, view.lo, view.nloc, self.field,
             self.lat_origin, self.lat_shape, shift, self.vel, self.params.contact_layer, self.condition,
             self.params.friction, 1.0 / dt, self.moment_point, self.remap_out if remap else self.out)
@@ -172,6 +174,12 @@ class RigidObstacle(GridStage, ParticleStage):
         if mag > self.peak[0]:
             self.peak = (mag, time + dt)
 
+    def supplied_speed(self) -> float:
+        return float(np.linalg.norm(self.vel))
+
+    def peak_force(self):
+        return self.peak
+
     def warnings(self) -> list[str]:
         h = self.grid.h
         t = self.thickness
@@ -184,12 +192,11 @@ class RigidObstacle(GridStage, ParticleStage):
     def series(self):
         names = "xyz"[: self.dim]
         out = {f"{self.label}_f{c}": float(self.force[k]) for k, c in enumerate(names)}
-        out[f"{self.label}_fn"] = float(getattr(self, "fn", 0.0))
-        out[f"{self.label}_ft"] = float(getattr(self, "ft", 0.0))
-        mom = getattr(self, "moment", np.zeros(3))
+        out[f"{self.label}_fn"] = float(self.fn)
+        out[f"{self.label}_ft"] = float(self.ft)
         for k, c in enumerate("xyz"):
             if self.dim == 3 or c == "z":
-                out[f"{self.label}_m{c}"] = float(mom[k])
+                out[f"{self.label}_m{c}"] = float(self.moment[k])
         return out
 
     def summary(self) -> str:
@@ -199,8 +206,8 @@ class RigidObstacle(GridStage, ParticleStage):
         return f"obstacle '{self.label}': peak force {self.peak[0]:.4g} {unit} at t = {self.peak[1]:.4g} s{guard}"
 
     def state_dict(self) -> dict:
-        return {"peak": list(self.peak), "force": self.force.tolist(), "fn": float(getattr(self, "fn", 0.0)),
-                "ft": float(getattr(self, "ft", 0.0)), "moment": np.asarray(getattr(self, "moment", np.zeros(3))).tolist(),
+        return {"peak": list(self.peak), "force": self.force.tolist(), "fn": float(self.fn), "ft": float(self.ft),
+                "moment": np.asarray(self.moment).tolist(),
                 "particles_put_back": self.particles_put_back, "max_depth": self.max_depth}
 
     def load_state(self, state: dict) -> None:

@@ -84,6 +84,12 @@ class SolverSpec(Strict):
     update: Literal["usl", "musl"] = Field(
         "usl", description="Stress update order: USL (update stress last) or MUSL (modified USL)"
     )
+    backend: Literal["cpu"] = Field(
+        "cpu", description="Where the step's kernels run: 'cpu' (numba, all cores) is the only backend so far")
+    sort_interval: int = Field(
+        20, ge=0, description="Re-order the particles of each material by grid cell every this many steps "
+        "(cache locality of the particle-grid transfers once a flow has mixed them; docs/performance.md); "
+        "0: never. Results change only at round-off (the order of the P2G sums)")
 
     @field_validator("flip_relaxation_time")
     @classmethod

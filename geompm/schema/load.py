@@ -48,6 +48,8 @@ class LoadedCase:
     obstacles: list[Resolved] = field(default_factory=list)
     damping: list[Resolved] = field(default_factory=list)
     outputs: list[Resolved] = field(default_factory=list)
+    #: (JSON path, message): settings the case gives that do nothing (ineffective_settings)
+    warnings: list[tuple[str, str]] = field(default_factory=list)
 
 
 def read_json(path: str | Path) -> dict:
@@ -291,13 +293,48 @@ def _parse_valid_numbers(raw: dict, base_dir: Path) -> LoadedCase:
                                             "'quadratic' or 'cubic'; use 'apic' with 'linear'"))
     for i, body in enumerate(case.bodies):
         _check_body(i, body, case, base_dir, problems)
-    loaded = LoadedCase(case=case, base_dir=base_dir, raw=raw)
+    loaded = LoadedCase(case=case, base_dir=base_dir, raw=raw, warnings=ineffective_settings(raw, case))
     _plugin_pass(raw, case, loaded, problems)
+    problems.extend(duplicate_labels(loaded))
     if not problems:
         _check_memory(case, problems)
     if problems:
         raise CaseError(problems)
     return loaded
+
+
+def ineffective_settings(raw: dict, case: Case) -> list[tuple[str, str]]:
+    """Settings the case gives explicitly that would do nothing, as (path, message): `geompm validate`
+    and `geompm run` warn, so a user never believes a parameter acts when it does not.  Warned, not
+    refused: a study that varies time.dt or solver.transfer over a case legitimately produces them."""
+    out = []
+    solver, time = raw.get("solver") or {}, raw.get("time") or {}
+    if "flip_ratio" in solver and case.solver.transfer != "flip":
+        out.append(("solver.flip_ratio", f"applies to transfer 'flip' only (transfer is '{case.solver.transfer}'); "
+                                         "set solver.transfer to \"flip\" or remove flip_ratio"))
+    if "cfl" in time and case.time.dt is not None:
+        out.append(("time.cfl", f"has no effect with a fixed time.dt = {case.time.dt:g} s; remove one of them "
+                                "(the adaptive step uses cfl, a fixed dt replaces it)"))
+    if case.dimension == 2:
+        for i, body in enumerate(raw.get("bodies") or []):
+            geo = body.get("geometry") if isinstance(body, dict) else None
+            if isinstance(geo, dict) and geo.get("type") == "polygon" and "extrude" in geo:
+                out.append((f"bodies.{i}.geometry.extrude", "applies to 3D cases only (a 2D polygon is the "
+                                                            "plane-strain section itself); remove it"))
+    return out
+
+
+def duplicate_labels(loaded) -> list[tuple[str, str]]:
+    """Two stages with one label would write the same series.csv columns and checkpoint state."""
+    out, seen = [], {}
+    for r in loaded.boundaries + loaded.obstacles + loaded.damping:
+        if r.label in seen:
+            out.append((f"{r.path}.name" if r.path.startswith("obstacles") else r.path,
+                        f"the label '{r.label}' is already used by {seen[r.label]}: their series columns and "
+                        "checkpoint state would overwrite each other; give each a distinct \"name\""))
+        else:
+            seen[r.label] = r.path
+    return out
 
 
 def _check_memory(case: Case, problems) -> None:

@@ -6,7 +6,8 @@ Use from a plugin package's tests:
     def test_conformance():
         check_material(MyLaw)          # raises AssertionError with the failing check
 
-Each check drives the law's own ``stress_kernel`` on a block of particles with
+Each check drives the law through the loop the engine runs (``Material.update_stress``,
+backend/cpu_loops.py) on a block of particles with
 ``MyLaw.example_params()``:
 
 - ``zero_rate``: rate-independent laws (``rate_dependent = False``) leave the

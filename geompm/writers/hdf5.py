@@ -102,7 +102,7 @@ class Hdf5Writer(Writer):
                 f.attrs["plugin_versions"] = json.dumps(_plugin_versions())
                 f.attrs["threads"] = numba.get_num_threads()
                 f.attrs["dimension"] = sim.scene.dim
-                f.attrs["case"] = json.dumps(sim.scene.case_raw)
+                f.attrs["case"] = sim.scene.case_text
                 f.attrs["units"] = "SI: m, s, kg, Pa, N (N/m in 2D plane strain), J (J/m in 2D)"
                 f["times"] = np.array([o[0] for o in self.outputs], float)
                 f["steps"] = np.array([o[1] for o in self.outputs], np.int64)

@@ -89,6 +89,7 @@ class SeriesWriter(Writer):
 
     def _setup(self, run_dir, sim):
         nm = self.params.normalise
+        self.mass = None  # total mass [kg], for the normalised columns only
         if nm is not None:
             self.origin = np.asarray(nm.origin, float)
             self.direction = np.asarray(nm.direction, float) / np.linalg.norm(nm.direction)
@@ -102,7 +103,7 @@ class SeriesWriter(Writer):
         os.write(self.fd, (",".join(self.columns) + "\n").encode())
 
     def state(self):
-        return {"columns": self.columns, "bytes": os.fstat(self.fd).st_size, "mass": getattr(self, "mass", None)}
+        return {"columns": self.columns, "bytes": os.fstat(self.fd).st_size, "mass": self.mass}
 
     def resume(self, run_dir, sim, state):
         """Reopen series.csv and cut the rows written after the checkpoint."""

@@ -47,6 +47,9 @@ def particle_fields(sim) -> dict[str, np.ndarray]:
         "von_mises_q": q,
         "material_id": st.p_material.astype(np.int32),
         "body_id": st.p_body.astype(np.int32),
+        # stable across the spatial sort and deletions: ParaView follows a particle by it
+        # (e.g. Threshold or a Python filter on particle_id), the row order changes between outputs
+        "particle_id": st.p_id.copy(),
         "volume": st.p_vol.copy(),
         "density": st.p_rho.copy(),
     }

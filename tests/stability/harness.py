@@ -12,6 +12,7 @@ sink microns behind a wall).
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -84,6 +85,9 @@ def run(case: dict, max_steps: int = 20000, cfl: float | None = None) -> Outcome
     dt_first = dt_min = sim.stable_dt()
     while sim.time < scene.end_time * (1 - 1e-12) and sim.step_count < max_steps:
         dt = min(sim.stable_dt(), scene.end_time - sim.time)
+        if not math.isfinite(dt):  # a NaN step would end the loop as if the run had finished
+            finite = False
+            break
         dt_min = min(dt_min, dt)
         sim.step(dt)
         bad, ek, wg = health_sums(st.p_x, st.p_x0, st.p_v, st.p_stress, st.p_mass, scene.gravity)

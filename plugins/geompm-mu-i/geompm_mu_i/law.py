@@ -24,13 +24,17 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-from numba import njit, prange
+from numba import njit
 from pydantic import Field, model_validator
 
 from geompm.materials.base import Material, MaterialParams
 from geompm.materials.fluid import shear_rate
-from geompm.materials.plasticity import elastic_trial, elastic_wave_speed, set_scaled_deviator, sqrt_j2
+from geompm.materials.layout import param_layout
+from geompm.materials.plasticity import ELASTIC, elastic_trial, elastic_wave_speed, set_scaled_deviator, sqrt_j2
+
+#: packed parameters: ELASTIC, mu_s, mu_2, I_0 [-], d [m], rho_s [kg/m3]
+MU_I = param_layout(ELASTIC, "friction_static", "friction_limit", "inertial_number_ref", "grain_diameter",
+                    "grain_density")
 
 
 class MuIParams(MaterialParams):
@@ -58,28 +62,28 @@ def mu_of_i(inertial, mu_s, mu_2, i0):
     return mu_s + (mu_2 - mu_s) / (i0 / inertial + 1.0)
 
 
-@njit(parallel=True, cache=True)
-def _stress(prm, dt, p_L, p_rho, p_stress, p_state):
-    lam, G, mu_s, mu_2, i0, d, rho_s = prm[1], prm[2], prm[3], prm[4], prm[5], prm[6], prm[7]
-    for p in prange(p_L.shape[0]):
-        s = p_stress[p]
-        tr = elastic_trial(s, p_L[p], dt, lam, G)
-        mean = (tr[0] + tr[1] + tr[2]) / 3.0
-        if mean >= 0.0:  # no confinement: grains separate
-            for i in range(6):
-                s[i] = 0.0
-            p_state[p, 0] = 0.0
-            continue
-        pres = -mean
-        inertial = shear_rate(p_L[p]) * d / math.sqrt(pres / rho_s)
-        tau_max = mu_of_i(inertial, mu_s, mu_2, i0) * pres
-        tau = sqrt_j2(tr, mean)
-        scale = 1.0
-        if tau > tau_max:
-            scale = tau_max / tau
-            p_state[p, 1] += (tau - tau_max) / (math.sqrt(3.0) * G)
-        p_state[p, 0] = inertial
-        set_scaled_deviator(s, tr, mean, scale, mean)
+@njit(cache=True)
+def mu_i_stress(prm, dt, L, rho, s, state):
+    """One particle's mu(I) update (module docstring); s (6,) and state (2,) in place."""
+    G = prm[MU_I.G]
+    tr = elastic_trial(s, L, dt, prm[MU_I.lam], G)
+    mean = (tr[0] + tr[1] + tr[2]) / 3.0
+    if mean >= 0.0:  # no confinement: grains separate
+        for i in range(6):
+            s[i] = 0.0
+        state[0] = 0.0
+        return
+    pres = -mean
+    inertial = shear_rate(L) * prm[MU_I.grain_diameter] / math.sqrt(pres / prm[MU_I.grain_density])
+    tau_max = mu_of_i(inertial, prm[MU_I.friction_static], prm[MU_I.friction_limit],
+                      prm[MU_I.inertial_number_ref]) * pres
+    tau = sqrt_j2(tr, mean)
+    scale = 1.0
+    if tau > tau_max:
+        scale = tau_max / tau
+        state[1] += (tau - tau_max) / (math.sqrt(3.0) * G)
+    state[0] = inertial
+    set_scaled_deviator(s, tr, mean, scale, mean)
 
 
 class MuI(Material):
@@ -87,15 +91,17 @@ class MuI(Material):
     description = "mu(I) granular rheology (Jop, Forterre & Pouliquen 2006), elastoplastic form"
     Params = MuIParams
     state_vars = ("inertial_number", "plastic_strain")
-    stress_kernel = _stress
-    wave_speed_kernel = elastic_wave_speed
+    layout = MU_I
+    particle_stress = mu_i_stress
+    particle_wave_speed = elastic_wave_speed
 
     @classmethod
     def pack(cls, p):
         E, nu = p.youngs_modulus, p.poisson_ratio
-        lam, G = E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
-        return np.array([p.density, lam, G, p.friction_static, p.friction_limit, p.inertial_number_ref,
-                         p.grain_diameter, p.grain_density])
+        return {"density": p.density, "lam": E * nu / ((1 + nu) * (1 - 2 * nu)), "G": E / (2 * (1 + nu)),
+                "friction_static": p.friction_static, "friction_limit": p.friction_limit,
+                "inertial_number_ref": p.inertial_number_ref, "grain_diameter": p.grain_diameter,
+                "grain_density": p.grain_density}
 
     @classmethod
     def example_params(cls):

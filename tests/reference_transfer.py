@@ -1,4 +1,6 @@
-"""Particle-to-grid (P2G) and grid-to-particle (G2P) transfers, any dimension d.
+"""The dimension-generic reference P2G and G2P, any dimension d: what the 2D and 3D kernels the
+engine runs (geompm/kernels/transfer2d.py, transfer3d.py) are tested against.  Written for
+clarity, not speed: the node multi-index, weight and gradient are rebuilt per stencil node.
 
 Arrays (n particles, d dimensions, nn nodes of the active grid window):
     p_x (n, d) position [m]        p_v (n, d) velocity [m/s]
@@ -21,10 +23,40 @@ thread scheduling, and is deterministic for a fixed thread count.
 import numpy as np
 from numba import njit, prange
 
-from .chunks import sum_chunks, zero_chunk
-from .shape import axis_weights, support
-from .volume import update_volume
-from .voigt import VOIGT_INDEX
+from geompm.kernels.shape import axis_weights, support
+from geompm.kernels.voigt import VOIGT_INDEX
+from geompm.kernels.volume import update_volume
+
+
+@njit(cache=True)
+def zero_chunk(cm, cp, cf, nn):
+    """Zero the first nn nodes of one chunk's mass, momentum and force."""
+    d = cp.shape[1]
+    for i in range(nn):
+        cm[i] = 0.0
+        for a in range(d):
+            cp[i, a] = 0.0
+            cf[i, a] = 0.0
+
+
+@njit(parallel=True, fastmath=True, cache=True)
+def sum_chunks(c_mass, c_mom, c_force, g_mass, g_mom, g_force):
+    """g_* = sum over chunks of c_*, node by node, in chunk order."""
+    nchunks = c_mass.shape[0]
+    nn, d = g_mom.shape
+    for i in prange(nn):
+        m = 0.0
+        for c in range(nchunks):
+            m += c_mass[c, i]
+        g_mass[i] = m
+        for a in range(d):
+            mv = 0.0
+            f = 0.0
+            for c in range(nchunks):
+                mv += c_mom[c, i, a]
+                f += c_force[c, i, a]
+            g_mom[i, a] = mv
+            g_force[i, a] = f
 
 
 @njit(cache=True, inline="always")

@@ -1,0 +1,17 @@
+"""Backends: where the particle and grid arrays live and the step's kernels run.
+
+``solver.backend`` names one (schema); ``make_backend`` looks it up in
+``BACKENDS``.  The scheduler (engine/scheduler.py) drives a step through the
+backend's methods only (backend/base.py); health checks, writers and
+checkpoints read the particle arrays through ``Backend.host_state()`` at the
+times they run.  ``cpu`` (numba, every core) is the only backend so far.
+"""
+
+from .base import Backend
+from .cpu import CpuBackend
+
+BACKENDS: dict[str, type[Backend]] = {CpuBackend.name: CpuBackend}
+
+
+def make_backend(scene, split_force: bool, nchunks: int | None = None) -> Backend:
+    return BACKENDS[scene.backend](scene, split_force, nchunks)

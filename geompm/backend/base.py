@@ -1,0 +1,56 @@
+"""The backend contract: what the scheduler asks of the machine a step runs on.
+
+One step (engine/scheduler.py) in backend calls:
+
+    sort_particles()                 every solver.sort_interval steps
+    view = window()                  the active grid window (engine/grid.py)
+    p2g(view, f_scale)               mass, momentum, internal force
+    grid_update(view, dt)            momentum balance + gravity
+      ... grid stages on view ...
+    g2p(view, dt, set_velocity, move, gradient)
+      ... particle stages on host_state() ...
+    update_stress(dt)                each material block through its law's loop
+(the next step's CFL limit runs each law's wave-speed loop: engine/timestep.py)
+
+The transfer scheme (PIC/APIC/FLIP/MLS) and the stencil support are fixed when
+the backend is made and reach the kernels as compile-time tags
+(kernels/stencil.py); the update order (USL/MUSL) is the scheduler's choice of
+step function, fixed at construction.
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+
+class Backend:
+    name: ClassVar[str] = ""
+
+    def host_state(self):
+        """The particle arrays as host (numpy) arrays: read by health checks, writers and checkpoints."""
+        raise NotImplementedError
+
+    def window(self):
+        raise NotImplementedError
+
+    def p2g(self, view, f_scale: float) -> None:
+        raise NotImplementedError
+
+    def grid_update(self, view, dt: float) -> None:
+        raise NotImplementedError
+
+    def remap_velocity(self, view) -> None:
+        """Grid velocity from the re-mapped momentum (MUSL)."""
+        raise NotImplementedError
+
+    def g2p(self, view, dt: float, set_velocity: bool, move: bool, gradient: bool) -> None:
+        raise NotImplementedError
+
+    def update_stress(self, dt: float) -> None:
+        raise NotImplementedError
+
+    def sort_particles(self) -> None:
+        raise NotImplementedError
+
+    def nbytes(self) -> int:
+        raise NotImplementedError
