@@ -41,6 +41,7 @@ class ParticleState:
     p_id: np.ndarray = None
     blocks: list = field(default_factory=list)
     p_state: list = field(default_factory=list)
+    sort_work: np.ndarray | None = None  # (n, 3) work buffer of sort_by_cell, made at the first sort
 
     def __post_init__(self):
         n, d = self.p_x.shape
@@ -70,21 +71,26 @@ class ParticleState:
         return {k: v for k, v in vars(self).items() if k.startswith("p_") and isinstance(v, np.ndarray)}
 
     def nbytes(self) -> int:
-        return sum(a.nbytes for a in self.arrays().values()) + sum(s.nbytes for s in self.p_state)
+        work = 0 if self.sort_work is None else self.sort_work.nbytes
+        return sum(a.nbytes for a in self.arrays().values()) + sum(s.nbytes for s in self.p_state) + work
 
     def sort_by_cell(self, origin, h) -> None:
         """Re-order every material block by grid cell (kernels/sort.py); blocks keep their extent."""
-        from ..kernels.sort import cell_order
+        from ..kernels.sort import SLAB, cell_order, permute_in_place
 
         if self.n == 0:
             return
         perm = np.concatenate([cell_order(self.p_x, origin, h, a, b) for a, b in self.blocks])
         # in place: every array keeps its identity, so a view or reference held across steps (a probe's
         # p_state column, a stage's reference) stays attached to the state
+        work = self.sort_work
+        if work is None or work.shape[0] < self.n:
+            work = self.sort_work = np.empty((self.n, SLAB))
         for arr in self.arrays().values():
-            arr[...] = arr[perm]
+            permute_in_place(arr, perm, work)
         for (a, b), sv in zip(self.blocks, self.p_state):
-            sv[...] = sv[perm[a:b] - a]
+            if sv.size:
+                permute_in_place(sv, np.ascontiguousarray(perm[a:b] - a), work)
 
     def remove(self, mask: np.ndarray) -> None:
         """Delete the particles where ``mask`` is true, keeping the blocks per material contiguous."""
