@@ -37,6 +37,8 @@ class CpuBackend(Backend):
         self.flip = scene.transfer == "flip"
         self.buffers = GridBuffers(scene.grid, nchunks, split_force)
         self.mass_eps = 1e-9 * float(self.state.p_mass.min()) if self.state.n else 0.0
+        #: largest |L_ij| [1/s] of the last stress update (its by-product), None before the first step
+        self.max_rate = None
         for mat in scene.materials:
             block_loops(type(mat))  # generate (or load) every law's loops before the first step
 
@@ -78,9 +80,11 @@ class CpuBackend(Backend):
 
     def update_stress(self, dt: float) -> None:
         st = self.state
+        rate = 0.0
         for mat, (s, e), sv in zip(self.scene.materials, st.blocks, st.p_state):
             if e > s:
-                mat.update_stress(dt, st.p_L[s:e], st.p_rho[s:e], st.p_stress[s:e], sv)
+                rate = max(rate, mat.update_stress(dt, st.p_L[s:e], st.p_rho[s:e], st.p_stress[s:e], sv))
+        self.max_rate = rate
 
     def sort_particles(self) -> None:
         self.state.sort_by_cell(self.scene.grid.origin, self.scene.grid.h)

@@ -7,10 +7,26 @@ A law gives two ``@njit`` functions for one particle (materials/base.py):
 
 and the backend owns the loops that run them over a block:
 
-    stress_block(prm, dt, p_L, p_rho, p_stress, p_state)     prange over the block
-    wave_speed_block(prm, p_rho) -> float                     max over the block (prange reduction)
+    stress_block(prm, dt, p_L, p_rho, p_stress, p_state) -> max |L_ij| over the block
+    wave_speed_block(prm, p_rho) -> float     the law's speed at the block's lowest and highest
+                                              density, the larger of the two
 
-numba inlines the law into the loop.  The loops are written as a small
+The stress loop returns the largest velocity-gradient entry of the block as a
+by-product (the particles' L is in cache there), for the next step's
+strain-increment limit (engine/timestep.py), which would otherwise cost a
+pass of its own over p_L (3 ns per particle, 4 % of a dp2d step).  The wave
+speed is evaluated at two densities only, so ``particle_wave_speed`` must be
+monotone in the density (elastic: decreasing; Tait: increasing;
+``geompm.testing`` checks it): a per-particle evaluation of the Tait speed,
+a power per particle, cost 107 ns per particle on fluid3d, more than the
+rest of the step.
+
+The law's functions are compiled into the loops (``inline="always"`` on
+their Python source, with the law's own fastmath flags): with a call per
+particle instead, the views ``L[p]``, ``s[p]``, ``state[p]`` are reference
+counted across the call and the Drucker-Prager update ran at 27 ns per
+particle against 13 ns for the same arithmetic in one function (dp2d,
+2 threads).  The loops are written as a small
 module per law (source below) in geompm's kernel folder and imported from
 there, because numba caches compiled code only for functions defined in a
 source file, and a loop made by a closure over the law would be compiled
@@ -44,24 +60,40 @@ from pathlib import Path
 HEADER = "# geompm generated kernel loop: do not edit (geompm/backend/cpu_loops.py)\n"
 
 SOURCE = '''{header}# law: {smod}.{stress} / {wmod}.{wave}; law source sha256 {digest}
+import numpy as np
 from numba import njit, prange
 
-from {smod} import {stress} as particle_stress
-from {wmod} import {wave} as particle_wave_speed
+from {smod} import {stress} as _law_stress
+from {wmod} import {wave} as _law_wave
+
+# the law's functions compiled into the loops (inline="always"), with the law's own fastmath flags: one
+# function, so numba keeps the per-particle views L[p], s[p], state[p] free of reference counting
+particle_stress = njit(inline="always", fastmath={fm_stress})(_law_stress.py_func)
+particle_wave_speed = njit(inline="always", fastmath={fm_wave})(_law_wave.py_func)
 
 
-@njit(parallel=True, cache=True)
+@njit(parallel=True, fastmath={fm_stress}, cache=True)
 def stress_block(prm, dt, p_L, p_rho, p_stress, p_state):
+    rate = 0.0  # max |L_ij| over the block, for the next step's strain-increment limit
     for p in prange(p_L.shape[0]):
-        particle_stress(prm, dt, p_L[p], p_rho[p], p_stress[p], p_state[p])
+        L = p_L[p]
+        particle_stress(prm, dt, L, p_rho[p], p_stress[p], p_state[p])
+        for i in range(3):
+            for j in range(3):
+                rate = max(rate, abs(L[i, j]))
+    return rate
 
 
 @njit(parallel=True, cache=True)
 def wave_speed_block(prm, p_rho):
-    c = 0.0
+    lo = np.inf
+    hi = -np.inf
     for p in prange(p_rho.shape[0]):
-        c = max(c, particle_wave_speed(prm, p_rho[p]))
-    return c
+        lo = min(lo, p_rho[p])
+        hi = max(hi, p_rho[p])
+    if hi < lo:
+        return 0.0
+    return max(particle_wave_speed(prm, lo), particle_wave_speed(prm, hi))
 '''
 
 _LOOPS: dict = {}
@@ -98,20 +130,39 @@ def _importable(fn) -> bool:
             and getattr(mod, py.__name__, None) is fn and getattr(mod, "__file__", None) is not None)
 
 
+def _fastmath(fn) -> str:
+    """The law function's fastmath option as source text (False, True or a set of LLVM flags)."""
+    flags = fn.targetoptions.get("fastmath", False)
+    if isinstance(flags, (set, frozenset)) or (hasattr(flags, "flags") and not isinstance(flags, bool)):
+        return repr(set(getattr(flags, "flags", flags)))
+    return repr(bool(flags))
+
+
 def _closure_loops(stress, wave):
+    import numpy as np
     from numba import njit, prange
 
     @njit(parallel=True)
     def stress_block(prm, dt, p_L, p_rho, p_stress, p_state):
+        rate = 0.0
         for p in prange(p_L.shape[0]):
-            stress(prm, dt, p_L[p], p_rho[p], p_stress[p], p_state[p])
+            L = p_L[p]
+            stress(prm, dt, L, p_rho[p], p_stress[p], p_state[p])
+            for i in range(3):
+                for j in range(3):
+                    rate = max(rate, abs(L[i, j]))
+        return rate
 
     @njit(parallel=True)
     def wave_speed_block(prm, p_rho):
-        c = 0.0
+        lo = np.inf
+        hi = -np.inf
         for p in prange(p_rho.shape[0]):
-            c = max(c, wave(prm, p_rho[p]))
-        return c
+            lo = min(lo, p_rho[p])
+            hi = max(hi, p_rho[p])
+        if hi < lo:
+            return 0.0
+        return max(wave(prm, lo), wave(prm, hi))
 
     return stress_block, wave_speed_block
 
@@ -148,7 +199,7 @@ def _generated(stress, wave):
     files = sorted({inspect.getsourcefile(sp), inspect.getsourcefile(wp)})
     digest = hashlib.sha256(b"".join(Path(f).read_bytes() for f in files)).hexdigest()[:16]
     text = SOURCE.format(header=HEADER, smod=sp.__module__, stress=sp.__name__, wmod=wp.__module__,
-                         wave=wp.__name__, digest=digest)
+                         wave=wp.__name__, digest=digest, fm_stress=_fastmath(stress), fm_wave=_fastmath(wave))
     # the name carries the law's identity and source digest: two installs of different law sources never
     # write the same file, and an edited law gets a new file (so a fresh numba compilation)
     ident = f"{sp.__module__}.{sp.__name__}|{wp.__module__}.{wp.__name__}|{digest}"

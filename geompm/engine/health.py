@@ -175,6 +175,7 @@ def check_domain(sim, delete: bool) -> int:
         return 0
     if delete:
         sim.state.remove(mask)
+        sim.backend.max_rate = None  # the deleted particles' rate no longer applies
         return k
     p = int(np.argmax(mask))
     raise SimulationError(

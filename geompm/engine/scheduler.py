@@ -51,7 +51,7 @@ class Simulation:
         return self.backend.buffers
 
     def stable_dt(self) -> float:
-        return stable_dt(self.scene, self.state)
+        return stable_dt(self.scene, self.state, self.backend.max_rate)
 
     def _begin(self, dt):
         every = self.scene.sort_interval

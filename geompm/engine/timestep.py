@@ -12,7 +12,7 @@ velocities of 75 m/s against arriving material, dt |L| passes 1 and densities
 turn negative (docs/stability.md, Strain increment).  In ordinary flows the
 limit never binds: the largest dt |L_ij| measured was 0.005 (column collapse)
 and 0.008 (dam break), fifty times below it.  It uses the velocity gradient
-of the previous step.
+of the previous step (the backend's stress loop returns its largest entry).
 
 This module is the one place the limits are computed (the health check's diagnoses ask here).
 Courant, Friedrichs & Lewy (1928); the viscous bound is the explicit diffusion
@@ -42,13 +42,16 @@ def viscous_limit(scene) -> float:
     return scene.grid.h ** 2 / (2 * scene.dim * scene.nu_max) if scene.nu_max > 0.0 else float("inf")
 
 
-def stable_dt(scene, state) -> float:
+def stable_dt(scene, state, rate: float | None = None) -> float:
+    """The next step [s].  ``rate``: the largest |L_ij| [1/s] if the caller knows it (the backend's
+    stress loop finds it as a by-product); otherwise it is taken from the particles."""
     if scene.dt_fixed is not None:
         return scene.dt_fixed
     speed = wave_speed(scene, state) + (max_speed(state.p_v) if state.n else 0.0)
     dt = scene.cfl * scene.grid.h / speed if speed > 0.0 else float("inf")
     dt = min(dt, viscous_limit(scene))
-    rate = max_rate(state.p_L) if state.n else 0.0
+    if rate is None:
+        rate = max_rate(state.p_L) if state.n else 0.0
     if rate > 0.0:
         dt = min(dt, STRAIN_INCREMENT / rate)
     if scene.dt_max is not None:

@@ -15,8 +15,9 @@ A material is a ``Plugin`` with:
   backend's loop over the block (backend/cpu_loops.py) and a GPU compiler can take
   it as a device function;
 - ``particle_wave_speed(prm, rho) -> float``: an ``@njit`` function, the speed [m/s]
-  at which information travels through one particle (elastic P-wave or acoustic),
-  for the CFL step (the backend takes the maximum over the block);
+  at which information travels through a particle of density ``rho`` (elastic P-wave
+  or acoustic), for the CFL step.  It must be monotone in ``rho``: the backend
+  evaluates it at the block's lowest and highest density and takes the larger;
 - ``kinematic_viscosity()``: the largest mu/rho [m2/s], for the viscous step limit
   dt <= h^2 / (2 d nu) (zero for rate-independent laws);
 - ``k0()``: the at-rest earth pressure coefficient sigma_h / sigma_v used for
@@ -91,12 +92,12 @@ class Material(Plugin):
     def initial_state(self, n: int) -> np.ndarray:
         return np.zeros((n, len(self.state_vars)))
 
-    def update_stress(self, dt, p_L, p_rho, p_stress, p_state) -> None:
+    def update_stress(self, dt, p_L, p_rho, p_stress, p_state) -> float:
         """Advance the stress of a block of particles in place, through the backend's loop (the one
-        the engine runs)."""
+        the engine runs); returns the block's largest |L_ij| [1/s]."""
         from ..backend.cpu_loops import block_loops
 
-        block_loops(type(self))[0](self.prm, dt, p_L, p_rho, p_stress, p_state)
+        return float(block_loops(type(self))[0](self.prm, dt, p_L, p_rho, p_stress, p_state))
 
     def wave_speed(self, p_rho) -> float:
         """Largest wave speed [m/s] over a block of particles with densities ``p_rho``."""

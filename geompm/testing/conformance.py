@@ -18,6 +18,9 @@ backend/cpu_loops.py) on a block of particles with
 - ``state_shape``: state arrays keep their shape (n, len(state_vars)) and
   the stress its shape (n, 6);
 - ``finite``: no NaN or Inf for strain increments |L dt| from 1e-12 to 1e-1;
+- ``wave_speed_monotone``: ``particle_wave_speed`` is positive, finite and monotone
+  in the density from rho0/100 to 10 rho0 (the backend evaluates it at a block's
+  lowest and highest density only);
 - ``plastic_dissipation``: laws with an isotropic elastic part (``youngs_modulus``
   and ``poisson_ratio`` among their parameters) never return energy from plastic
   flow.  Over random strain paths, a quarter of them stretched through the apex
@@ -162,7 +165,27 @@ def check_plastic_dissipation(law):
         f"(sigma_n+1 : de_p must be >= 0)")
 
 
+def check_wave_speed_monotone(law):
+    """The wave speed is monotone in the density from rho0 / 100 to 10 rho0 (the backend evaluates it at
+    a block's lowest and highest density only), positive and finite."""
+    from ..backend.cpu_loops import block_loops
+
+    mat = law(law.example_params())
+    wave = block_loops(law)[1]
+    rho = mat.density * np.geomspace(1e-2, 10.0, 200)
+    c = np.array([wave(mat.prm, np.array([r])) for r in rho])
+    assert np.isfinite(c).all() and (c > 0).all(), f"{law.name}: wave speed not positive and finite: {c.min()}"
+    step = np.diff(c)
+    tol = 1e-12 * c.max()
+    assert (step >= -tol).all() or (step <= tol).all(), (
+        f"{law.name}: particle_wave_speed is not monotone in the density (it rises and falls between "
+        f"{rho[0]:.3g} and {rho[-1]:.3g} kg/m3); the backend evaluates it at a block's extreme densities only")
+    both = wave(mat.prm, np.array([rho[0], rho[-1]]))
+    assert both == max(c[0], c[-1]), f"{law.name}: the block's speed {both} is not the larger of its extremes"
+
+
 MATERIAL_CHECKS = {
+    "wave_speed_monotone": check_wave_speed_monotone,
     "plastic_dissipation": check_plastic_dissipation,
     "zero_rate": check_zero_rate,
     "objectivity": check_objectivity,
