@@ -61,43 +61,23 @@ def cell_order(p_x, origin, h, start, end):
     return perm
 
 
-@njit(cache=True)
-def out_of_order(p_x, origin, h, start, end):
-    """Fraction of neighbours in memory (p, p+1) in different, non-adjacent cells: 0 right after a
-    sort, about 1 for a random order.  A diagnostic (docs/performance.md), not used to decide."""
-    n = end - start
-    if n < 2:
-        return 0.0
-    d = p_x.shape[1]
-    inv_h = 1.0 / h
-    far = 0
-    for k in range(start, end - 1):
-        for a in range(d):
-            ca = np.floor((p_x[k, a] - origin[a]) * inv_h)
-            cb = np.floor((p_x[k + 1, a] - origin[a]) * inv_h)
-            if abs(ca - cb) > 1.0:
-                far += 1
-                break
-    return far / (n - 1)
-
-
 @njit(parallel=True, cache=True)
-def gather_rows(src, perm, dst):
-    """dst[k] = src[perm[k]] for 2D arrays (n, w), in parallel over k."""
-    w = src.shape[1]
+def gather_slab(src, width, j0, ncols, perm, dst):
+    """dst[k, c] = src[perm[k], j0 + c] for c < ncols, on flat float64 views (src rows of ``width``,
+    dst rows of ``ncols``): one compiled kernel for every array and slab."""
     for k in prange(perm.shape[0]):
-        q = perm[k]
-        for j in range(w):
-            dst[k, j] = src[q, j]
+        q = perm[k] * width + j0
+        for c in range(ncols):
+            dst[k * ncols + c] = src[q + c]
 
 
 @njit(parallel=True, cache=True)
-def copy_rows(src, dst):
-    """dst[:] = src for 2D arrays (n, w), in parallel."""
-    w = src.shape[1]
-    for k in prange(src.shape[0]):
-        for j in range(w):
-            dst[k, j] = src[k, j]
+def scatter_slab(src, ncols, width, j0, dst):
+    """dst[k, j0 + c] = src[k, c]: the slab back into its rows (flat views as in gather_slab)."""
+    n = src.shape[0] // ncols
+    for k in prange(n):
+        for c in range(ncols):
+            dst[k * width + j0 + c] = src[k * ncols + c]
 
 
 #: widest slab of an array permuted at once [8-byte columns]: the work buffer holds n x 3 doubles
@@ -107,16 +87,19 @@ SLAB = 3
 def permute_in_place(arr: np.ndarray, perm: np.ndarray, work: np.ndarray) -> None:
     """arr <- arr[perm] along the first axis, keeping the array object (views stay attached).
 
-    ``work``: a float64 buffer (>= n, SLAB) kept by the state between sorts.  Arrays wider than
-    SLAB columns go through it in slabs of SLAB columns, so the buffer adds 24 bytes per particle
-    instead of the widest row's 72.  A fresh buffer per sort would cost more than the sort: its
-    first touch (page faults) measured 120 ns per particle at 204k particles."""
+    ``work``: a float64 buffer (>= n, SLAB) kept by the state between sorts.  8-byte arrays go through
+    it in slabs of SLAB columns as flat float64 views (one compiled kernel for all of them), so the
+    buffer adds 24 bytes per particle instead of the widest row's 72; a fresh buffer per sort would
+    cost more than the sort (its first touch measured 120 ns per particle at 204k particles).  Other
+    item sizes (the int32 material and body ids) take numpy's gather."""
     n = arr.shape[0]
-    rows = arr.reshape(n, -1)
-    per = max(1, SLAB * 8 // arr.itemsize)  # columns of this dtype that fit a work row
-    flat = work.reshape(-1)[: n * SLAB].view(np.uint8)
-    for j in range(0, rows.shape[1], per):
-        cols = rows[:, j:j + per]
-        tmp = flat[: n * cols.shape[1] * arr.itemsize].view(arr.dtype).reshape(n, cols.shape[1])
-        gather_rows(cols, perm, tmp)
-        copy_rows(tmp, cols)
+    if arr.itemsize != 8:
+        arr[...] = arr[perm]
+        return
+    flat = arr.reshape(-1).view(np.float64)
+    width = flat.shape[0] // n if n else 0
+    tmp = work.reshape(-1)
+    for j in range(0, width, SLAB):
+        cols = min(SLAB, width - j)
+        gather_slab(flat, width, j, cols, perm, tmp)
+        scatter_slab(tmp[: n * cols], cols, width, j, flat)
