@@ -41,7 +41,7 @@ class Scene:
     nu_max: float
     run_options: RunSpec  # checkpoints, on_leave_domain
     backend: str = "cpu"  # solver.backend (backend/__init__.py)
-    sort_interval: int = 50  # solver.sort_interval: steps between two spatial sorts; 0 never
+    sort_interval: int = 100  # solver.sort_interval: steps between two spatial sorts; 0 never
     dt_min: float = 1e-9
     base_dir: object = None  # folder of the case file: relative paths (meshes) start there
     boundaries: list = field(default_factory=list)

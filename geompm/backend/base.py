@@ -10,7 +10,7 @@ One step (engine/scheduler.py) in backend calls:
     g2p(view, dt, set_velocity, move, gradient)
       ... particle stages on host_state() ...
     update_stress(dt)                each material block through its law's loop; sets max_rate,
-                                     the largest |L_ij| of the step, for the strain-increment limit
+                                     the largest |L_ii| of the step, for the strain-increment limit
 (the next step's CFL limit runs each law's wave-speed loop: engine/timestep.py)
 
 The transfer scheme (PIC/APIC/FLIP/MLS) and the stencil support are fixed when
@@ -26,7 +26,7 @@ from typing import ClassVar
 
 class Backend:
     name: ClassVar[str] = ""
-    #: largest |L_ij| [1/s] found by the last update_stress; None when unknown (before the first step,
+    #: largest |L_ii| [1/s] found by the last update_stress; None when unknown (before the first step,
     #: after a restore): the time step then takes it from the particles
     max_rate: float | None = None
 

@@ -37,7 +37,7 @@ class CpuBackend(Backend):
         self.flip = scene.transfer == "flip"
         self.buffers = GridBuffers(scene.grid, nchunks, split_force)
         self.mass_eps = 1e-9 * float(self.state.p_mass.min()) if self.state.n else 0.0
-        #: largest |L_ij| [1/s] of the last stress update (its by-product), None before the first step
+        #: largest |L_ii| [1/s] of the last stress update (its by-product), None before the first step
         self.max_rate = None
         for mat in scene.materials:
             block_loops(type(mat))  # generate (or load) every law's loops before the first step

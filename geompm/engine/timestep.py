@@ -2,17 +2,19 @@
 
     dt = min( cfl * h / max_p(c_p + |v_p|),      (CFL, c_p the material wave speed)
               h^2 / (2 d nu_max),                 (viscous limit, nu = mu / rho)
-              STRAIN_INCREMENT / max_p,ij |L_ij|, (strain increment per step)
+              STRAIN_INCREMENT / max_p,i |L_ii|,  (strain increment per step)
               dt_max )
 
 The strain-increment limit keeps the volume update V <- V det(I + dt L)
 (kernels/volume.py) far from inverting a particle.  The CFL bound alone does
 not: in a 50 m/s impact on a wall at cfl = 0.8 the stress wave drives
 velocities of 75 m/s against arriving material, dt |L| passes 1 and densities
-turn negative (docs/stability.md, Strain increment).  In ordinary flows the
-limit never binds: the largest dt |L_ij| measured was 0.005 (column collapse)
-and 0.008 (dam break), fifty times below it.  It uses the velocity gradient
-of the previous step (the backend's stress loop returns its largest entry).
+turn negative (docs/stability.md, Strain increment).  The stretching rates
+L_ii are what change a particle's volume (a shear L_01 alone leaves
+det(I + dt L) = 1).  In ordinary flows the limit never binds: the largest
+dt |L_ij| measured was 0.005 (column collapse) and 0.008 (dam break), fifty
+times below it.  It uses the velocity gradient of the previous step (the
+backend's stress loop returns its largest |L_ii|).
 
 This module is the one place the limits are computed (the health check's diagnoses ask here).
 Courant, Friedrichs & Lewy (1928); the viscous bound is the explicit diffusion
@@ -23,7 +25,7 @@ from __future__ import annotations
 
 from ..kernels.reduce import max_rate, max_speed
 
-#: the largest strain increment dt |L_ij| a step may take [-] (module docstring)
+#: the largest stretching increment dt |L_ii| a step may take [-] (module docstring)
 STRAIN_INCREMENT = 0.25
 
 
@@ -43,7 +45,7 @@ def viscous_limit(scene) -> float:
 
 
 def stable_dt(scene, state, rate: float | None = None) -> float:
-    """The next step [s].  ``rate``: the largest |L_ij| [1/s] if the caller knows it (the backend's
+    """The next step [s].  ``rate``: the largest |L_ii| [1/s] if the caller knows it (the backend's
     stress loop finds it as a by-product); otherwise it is taken from the particles."""
     if scene.dt_fixed is not None:
         return scene.dt_fixed

@@ -98,10 +98,9 @@ def max_projection(p_x, origin, direction):
 
 @njit(parallel=True, cache=True)
 def max_rate(p_L):
-    """Largest |L_ij| over the particles [1/s] (the strain-increment step limit, engine/timestep.py)."""
+    """Largest stretching rate |L_ii| over the particles [1/s] (the strain-increment step limit,
+    engine/timestep.py)."""
     m = 0.0
     for p in prange(p_L.shape[0]):
-        for i in range(3):
-            for j in range(3):
-                m = max(m, abs(p_L[p, i, j]))
+        m = max(m, max(abs(p_L[p, 0, 0]), max(abs(p_L[p, 1, 1]), abs(p_L[p, 2, 2]))))
     return m

@@ -94,7 +94,7 @@ class Material(Plugin):
 
     def update_stress(self, dt, p_L, p_rho, p_stress, p_state) -> float:
         """Advance the stress of a block of particles in place, through the backend's loop (the one
-        the engine runs); returns the block's largest |L_ij| [1/s]."""
+        the engine runs); returns the block's largest stretching rate |L_ii| [1/s]."""
         from ..backend.cpu_loops import block_loops
 
         return float(block_loops(type(self))[0](self.prm, dt, p_L, p_rho, p_stress, p_state))

@@ -87,7 +87,7 @@ class SolverSpec(Strict):
     backend: Literal["cpu"] = Field(
         "cpu", description="Where the step's kernels run: 'cpu' (numba, all cores) is the only backend so far")
     sort_interval: int = Field(
-        50, ge=0, description="Re-order the particles of each material by grid cell every this many steps "
+        100, ge=0, description="Re-order the particles of each material by grid cell every this many steps "
         "(cache locality of the particle-grid transfers once a flow has mixed them; docs/performance.md); "
         "0: never. Results change only at round-off (the order of the P2G sums)")
 
