@@ -75,8 +75,8 @@ def test_cohesive_column_stands():
 
 def test_cfl_above_the_limit_is_refused_and_would_gain_energy():
     """cfl = 0.9 is refused with the limit named; forced past validation, the elastic drop shows why:
-    at cfl = 1.0 its kinetic energy exceeds what gravity supplied (ratio > 1.05; measured 1.79) while
-    cfl = 0.8 stays within. Since the wave speed follows the current density (issue 16) the drop
+    at cfl = 1.0 its kinetic energy exceeds what gravity supplied (ratio > 1.05; measured 3.24, 1.79
+    before issue 17) while cfl = 0.8 stays within. Since the wave speed follows the current density (issue 16) the drop
     also holds at 0.9 (0.986; it gained 2.7 x before): the limit 0.8 keeps a margin."""
     with pytest.raises(CaseError) as exc:
         scene_from_dict(column(**{**ELASTIC_DROP, "time.cfl": 0.9}))
