@@ -48,7 +48,7 @@ class ObstacleParams(Params):
 def obstacle_apply(g_vel, g_mass, origin, h, lo, nloc, field, lat_origin, lat_shape, shift, vel, layer,
                    condition, mu, inv_dt, moment_point, out):
     """Contact on window nodes; out[0:d] force on the obstacle, out[d] f_n, out[d+1:2d+1] sum f_n n,
-    out[2d+1:2d+4] moment (3 components).  Returns the number of nodes in contact."""
+    out[2d+1:2d+4] moment (3 components)."""
     nn, d = g_vel.shape
     inv_h = 1.0 / h
     x = np.empty(d)
@@ -63,7 +63,6 @@ def obstacle_apply(g_vel, g_mass, origin, h, lo, nloc, field, lat_origin, lat_sh
     lat_hi = np.empty(d)
     for a in range(d):
         lat_hi[a] = lat_origin[a] + (lat_shape[a] - 1) * h
-    count = 0
     for idx in range(nn):
         m = g_mass[idx]
         if m <= 0.0:
@@ -83,11 +82,7 @@ def obstacle_apply(g_vel, g_mass, origin, h, lo, nloc, field, lat_origin, lat_sh
             continue
         for a in range(d):
             normal[a] = val[1 + a]
-        if not contact_and_record(g_vel, idx, normal, vel, condition, mu, m, inv_dt, x, shift, moment_point,
-                                  before, f, out):
-            continue
-        count += 1
-    return count
+        contact_and_record(g_vel, idx, normal, vel, condition, mu, m, inv_dt, x, shift, moment_point, before, f, out)
 
 
 GUARD_POINTS_MAX = 2e7  # lattice points of one obstacle's guard field (4 doubles each in 3D: 640 MB)
