@@ -60,13 +60,16 @@ from pathlib import Path
 
 HEADER = "# geompm generated kernel loop: do not edit (geompm/backend/cpu_loops.py)\n"
 
-SOURCE = '''{header}# law: {smod}.{stress} / {wmod}.{wave}; law source sha256 {digest}
+HEAD = '''{header}# law: {smod}.{stress} / {wmod}.{wave}; law source sha256 {digest}
 import numpy as np
 from numba import njit, prange
 
 from {smod} import {stress} as _law_stress
 from {wmod} import {wave} as _law_wave
+'''
 
+#: the loops over a block, given _law_stress and _law_wave (the module file's body, or a closure's)
+LOOPS = '''
 # the law's functions compiled into the loops (inline="always"), with the law's own fastmath flags: one
 # function, so numba keeps the per-particle views L[p], s[p], state[p] free of reference counting
 particle_stress = njit(inline="always", fastmath={fm_stress})(_law_stress.py_func)
@@ -138,30 +141,14 @@ def _fastmath(fn) -> str:
 
 
 def _closure_loops(stress, wave):
+    """The same loops for a law that cannot be imported by name: compiled in this process, not cached
+    (numba caches only functions of a source file)."""
     import numpy as np
     from numba import njit, prange
 
-    @njit(parallel=True)
-    def stress_block(prm, dt, p_L, p_rho, p_stress, p_state):
-        rate = 0.0
-        for p in prange(p_L.shape[0]):
-            L = p_L[p]
-            stress(prm, dt, L, p_rho[p], p_stress[p], p_state[p])
-            rate = max(rate, max(abs(L[0, 0]), max(abs(L[1, 1]), abs(L[2, 2]))))
-        return rate
-
-    @njit(parallel=True)
-    def wave_speed_block(prm, p_rho):
-        lo = np.inf
-        hi = -np.inf
-        for p in prange(p_rho.shape[0]):
-            lo = min(lo, p_rho[p])
-            hi = max(hi, p_rho[p])
-        if hi < lo:
-            return 0.0
-        return max(wave(prm, lo), wave(prm, hi))
-
-    return stress_block, wave_speed_block
+    namespace = {"np": np, "njit": njit, "prange": prange, "_law_stress": stress, "_law_wave": wave}
+    exec(LOOPS.format(fm_stress=_fastmath(stress), fm_wave=_fastmath(wave)).replace(", cache=True", ""), namespace)
+    return namespace["stress_block"], namespace["wave_speed_block"]
 
 
 def _write_if_changed(path: Path, text: str) -> None:
@@ -195,8 +182,9 @@ def _generated(stress, wave):
     sp, wp = stress.py_func, wave.py_func
     files = sorted({inspect.getsourcefile(sp), inspect.getsourcefile(wp)})
     digest = hashlib.sha256(b"".join(Path(f).read_bytes() for f in files)).hexdigest()[:16]
-    text = SOURCE.format(header=HEADER, smod=sp.__module__, stress=sp.__name__, wmod=wp.__module__,
-                         wave=wp.__name__, digest=digest, fm_stress=_fastmath(stress), fm_wave=_fastmath(wave))
+    text = (HEAD.format(header=HEADER, smod=sp.__module__, stress=sp.__name__, wmod=wp.__module__,
+                        wave=wp.__name__, digest=digest)
+            + LOOPS.format(fm_stress=_fastmath(stress), fm_wave=_fastmath(wave)))
     # the name carries the law's identity and source digest: two installs of different law sources never
     # write the same file, and an edited law gets a new file (so a fresh numba compilation)
     ident = f"{sp.__module__}.{sp.__name__}|{wp.__module__}.{wp.__name__}|{digest}"
