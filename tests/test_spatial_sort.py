@@ -15,6 +15,7 @@ import pytest
 from geompm.api import scene_from_dict
 from geompm.bench.worker import permute_blocks
 from geompm.cli import main
+from geompm.errors import CaseError
 from geompm.engine.scheduler import Simulation
 from geompm.kernels.sort import cell_order
 
@@ -110,7 +111,11 @@ def test_vtu_carries_particle_id_in_the_solver_order(tmp_path):
 
 
 @pytest.mark.parametrize("interval", [0, 7])
-def test_sort_interval_is_validated_and_reaches_the_scene(interval):
+def test_sort_interval_reaches_the_scene_and_a_negative_one_is_refused(interval):
     case = tiny_case()
     case["solver"]["sort_interval"] = interval
     assert scene_from_dict(case).sort_interval == interval
+    case["solver"]["sort_interval"] = -interval - 1
+    with pytest.raises(CaseError) as err:
+        scene_from_dict(case)
+    assert any(path == "solver.sort_interval" for path, _ in err.value.problems)

@@ -47,10 +47,8 @@ def permute_blocks(state, seed: int = 0) -> None:
     import numpy as np
 
     rng = np.random.default_rng(seed)
-    perm = np.concatenate([a + rng.permutation(b - a) for a, b in state.blocks]) if state.blocks else np.arange(0)
-    for name, arr in state.arrays().items():
-        setattr(state, name, np.ascontiguousarray(arr[perm]))
-    state.p_state = [np.ascontiguousarray(sv[perm[a:b] - a]) for (a, b), sv in zip(state.blocks, state.p_state)]
+    if state.n:
+        state.reorder(np.concatenate([a + rng.permutation(b - a) for a, b in state.blocks]))
 
 
 def measure(case: str, steps: int, sets: list[str], permute: bool = False) -> dict:

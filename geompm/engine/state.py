@@ -76,11 +76,18 @@ class ParticleState:
 
     def sort_by_cell(self, origin, h) -> None:
         """Re-order every material block by grid cell (kernels/sort.py); blocks keep their extent."""
-        from ..kernels.sort import SLAB, cell_order, permute_in_place
+        from ..kernels.sort import cell_order
 
         if self.n == 0:
             return
-        perm = np.concatenate([cell_order(self.p_x, origin, h, a, b) for a, b in self.blocks])
+        self.reorder(np.concatenate([cell_order(self.p_x, origin, h, a, b) for a, b in self.blocks]))
+
+    def reorder(self, perm: np.ndarray) -> None:
+        """Put particle perm[k] at row k, for a permutation that keeps every index inside its material
+        block (the sort, the benchmark's shuffle)."""
+        from ..kernels.sort import SLAB, permute_in_place
+
+        perm = np.ascontiguousarray(perm, dtype=np.int64)
         # in place: every array keeps its identity, so a view or reference held across steps (a probe's
         # p_state column, a stage's reference) stays attached to the state
         work = self.sort_work
