@@ -1,20 +1,22 @@
 """Base classes of the per-step stages that plugins provide.
 
 - ``GridStage``: acts on grid velocities after the grid update (boundaries,
-  obstacles, grid damping).  A stage that reads the nodal force or the
-  pre-update velocity says so with ``needs_split_force = True``.  ``apply_grid(view, dt, time, remap)``: ``remap``
-  is True when the scheduler re-applies conditions to the MUSL re-mapped
-  velocities (a stage that records forces should count only the first call).
+  obstacles, grid damping) through a per-node function;
 - ``ParticleStage``: acts on particles after G2P (particle damping, the
-  obstacles' penetration guard).  A stage may be both: a rigid obstacle acts
-  on grid nodes and then on the particles that still got inside it.
+  obstacles' penetration guard) through a per-particle function.
+A stage may be both: a rigid obstacle acts on grid nodes and then on the
+particles that still got inside it.  The stage gives the functions, its
+packed parameters and a host-side hook for what its pass accumulated (a
+force); the backend owns the loops (backend/cpu_stage_loops.py), so the same
+functions can run on another machine.
 
 A stage may contribute columns to series.csv through ``series()``, a dict of
 column name -> value at the current step.  A stage that carries state from
 step to step (an obstacle's peak force) returns it from ``state_dict()`` (plain
 JSON values) and takes it back in ``load_state()``, so checkpoints restore it.
 Every capability the engine asks about is declared here with its default:
-``phase`` (where the stage runs among the others each step), ``needs_split_force``,
+``phase`` (where the stage runs among the others each step), the per-item functions and
+their scratch and accumulator sizes, ``needs_split_force``,
 ``supplied_speed()`` (the health check's energy budget for moving obstacles),
 ``peak_force()`` (status.json).  The scheduler orders and picks stages by these,
 never by plugin name and never by probing attributes.
@@ -23,6 +25,8 @@ never by plugin name and never by probing attributes.
 from __future__ import annotations
 
 from typing import ClassVar
+
+import numpy as np
 
 from .plugin import Plugin
 
@@ -71,15 +75,80 @@ class Stage(Plugin):
 
 
 class GridStage(Stage):
-    #: True when the stage reads ``view.g_force`` or ``view.g_vel_old``: the scheduler then
-    #: keeps the nodal force apart from the momentum (engine/grid.py); otherwise P2G folds
-    #: dt f into the momentum and those two arrays are None.
-    needs_split_force: bool = False
+    """A stage on grid nodes, after the grid update: one ``@njit`` function per node, run by the backend.
 
-    def apply_grid(self, view, dt: float, time: float, remap: bool) -> None:
+    Either a rule on one node (boundaries, obstacles, grid damping)::
+
+        node_rule(prm, aux, dt, x, m, v, v_old, f, work, out)
+
+    ``prm`` the stage's packed parameters (float64, 1-D, layout.py), ``aux`` its lookup
+    table (a signed-distance lattice; any float64 array), ``x`` (d,) the node's position [m],
+    ``m`` its mass [kg], ``v`` (d,) its velocity after the update [m/s], changed in place,
+    ``v_old`` and ``f`` (d,) its velocity before the update [m/s] and its force [N] (defined only
+    when the stage declares ``needs_split_force``; otherwise aliases of ``v``), ``work``
+    (node_scratch,) float64 scratch, ``out`` (node_reduction,) this thread's accumulator.  The
+    backend calls it on the nodes with mass (every one, or those in ``node_box``), in parallel: it
+    must write only this node and ``out``, allocate nothing and call no Python.  The backend sums
+    the threads' ``out`` rows for ``grid_reduced``.
+
+    Or a node merge (periodic folding, ``phase = MERGE``)::
+
+        node_image(prm, axis, i) -> j
+
+    the global index along ``axis`` of the node that global index ``i`` is the same node as (``i``
+    itself when it is not a ghost); the backend merges every node with its image (summed mass,
+    mass-weighted velocity).  Images must be nodes that are not ghosts themselves.
+    """
+
+    #: True when the rule reads ``v_old`` or ``f``: the scheduler then keeps the nodal force apart
+    #: from the momentum (engine/grid.py); otherwise P2G folds dt f into the momentum
+    needs_split_force: ClassVar[bool] = False
+    node_rule: ClassVar = None
+    node_image: ClassVar = None
+    node_scratch: ClassVar[int] = 0  # float64 scratch entries per thread
+    node_reduction: ClassVar[int] = 0  # accumulator entries per thread
+
+    def grid_args(self, dt: float, time: float, remap: bool):
+        """(prm, aux) for this pass, or None to skip it.  ``remap`` is True when the scheduler
+        re-applies the conditions to the MUSL re-mapped velocities."""
         raise NotImplementedError
+
+    def node_box(self, time: float):
+        """(first, last) global node indices (d,) int64, inclusive, outside which the rule changes
+        nothing at ``time``, or None for every node (the backend may skip the nodes outside)."""
+        return None
+
+    def grid_reduced(self, out, dt: float, time: float, remap: bool) -> None:
+        """The pass's accumulator rows (threads, node_reduction), on the host."""
 
 
 class ParticleStage(Stage):
-    def apply_particles(self, state, dt: float, time: float) -> None:
+    """A stage on particles, after G2P: one ``@njit`` function per particle, run by the backend::
+
+        particle_rule(prm, aux, dt, k, x, x0, v, C, m, s, work, out)
+
+    ``k`` the particle's material block, ``x`` and ``x0`` (d,) its position and initial position
+    [m], ``v`` (d,) its velocity [m/s], ``C`` (d, d) its affine velocity matrix [1/s], all in
+    place; ``m`` its mass [kg]; ``s`` (6,) its stress [Pa] (read); ``prm``, ``aux``, ``work``,
+    ``out`` as for ``GridStage.node_rule``.  The backend runs it over the blocks of
+    ``particle_blocks()`` in parallel and hands the summed rows to ``particle_reduced``.
+    """
+
+    particle_rule: ClassVar = None
+    particle_scratch: ClassVar[int] = 0
+    particle_reduction: ClassVar[int] = 0
+
+    def particle_args(self, dt: float, time: float):
+        """(prm, aux) for this pass, or None to skip it."""
         raise NotImplementedError
+
+    def particle_blocks(self, nblocks: int):
+        """The material blocks the rule acts on (default: all)."""
+        return range(nblocks)
+
+    def particle_reduced(self, out, dt: float, time: float) -> None:
+        """The pass's accumulator rows (threads, particle_reduction), on the host."""
+
+
+#: the ``aux`` of a stage that has no lookup table
+NO_AUX = np.zeros(1)

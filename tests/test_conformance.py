@@ -1,5 +1,6 @@
 """The conformance suite of geompm.testing over every registered material, third-party included."""
 
+import numpy as np
 import pytest
 from numba import njit
 
@@ -53,3 +54,28 @@ def overshooting_dp_stress(prm, dt, L, rho, s, state):
     s[3] = s3 + 1.5 * (s[3] - s3)
     s[4] = s4 + 1.5 * (s[4] - s4)
     s[5] = s5 + 1.5 * (s[5] - s5)
+
+
+def test_no_allocation_check_catches_a_law_that_allocates():
+    """A Drucker-Prager that copies its stress into a fresh array per particle (np.empty) must fail the
+    no_allocation check; the real law passes it (above)."""
+    from geompm.materials.drucker_prager import DruckerPrager
+    from geompm.testing.conformance import check_no_allocation
+
+    class Allocating(DruckerPrager):
+        name = "dp_allocating"
+        particle_stress = allocating_dp_stress
+
+    with pytest.raises(AssertionError, match="must not allocate"):
+        check_no_allocation(Allocating)
+
+
+@njit(cache=True)
+def allocating_dp_stress(prm, dt, L, rho, s, state):
+    """Drucker-Prager through a per-particle temporary array (the mutant above)."""
+    tmp = np.empty(6)
+    for k in range(6):
+        tmp[k] = s[k]
+    dp_stress(prm, dt, L, rho, tmp, state)
+    for k in range(6):
+        s[k] = tmp[k]

@@ -1,4 +1,4 @@
-"""The material kernel contract (materials/base.py, materials/layout.py, backend/cpu_loops.py; issue 17).
+"""The material kernel contract (materials/base.py, layout.py, backend/cpu_loops.py; issue 17).
 
 A law is two per-particle @njit functions; the backend writes the loop that runs them over a block
 as a module in its kernel folder (so numba caches it) or, for a law that cannot be imported by name,
@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 from numba import njit
 
-from geompm.backend import cpu_loops
+from geompm.backend import codegen, cpu_loops
 from geompm.materials.drucker_prager import DP, DruckerPrager, dp_stress
-from geompm.materials.layout import pack_in_layout, param_layout
+from geompm.layout import pack_in_layout, param_layout
 from geompm.materials.plasticity import ELASTIC
 
 
@@ -49,7 +49,7 @@ def test_a_law_defined_in_a_function_runs_through_the_uncached_loop():
         name = "local_dp"
         particle_stress = local_dp
 
-    assert not cpu_loops._importable(local_dp) and cpu_loops._importable(dp_stress)
+    assert not codegen.importable(local_dp) and codegen.importable(dp_stress)
     out = []
     for law in (DruckerPrager, LocalDP):
         mat = law(DruckerPrager.example_params())
@@ -76,11 +76,11 @@ def test_a_loop_file_geompm_did_not_write_is_never_replaced(tmp_path):
     foreign = tmp_path / "loop_x.py"
     foreign.write_text("print('mine')\n")
     with pytest.raises(RuntimeError, match="not written by geompm"):
-        cpu_loops._write_if_changed(foreign, cpu_loops.HEADER + "x = 1\n")
+        codegen.write_if_changed(foreign, codegen.HEADER + "x = 1\n")
     assert foreign.read_text() == "print('mine')\n"
     ours = tmp_path / "loop_y.py"
-    cpu_loops._write_if_changed(ours, cpu_loops.HEADER + "x = 1\n")
-    cpu_loops._write_if_changed(ours, cpu_loops.HEADER + "x = 2\n")
+    codegen.write_if_changed(ours, codegen.HEADER + "x = 1\n")
+    codegen.write_if_changed(ours, codegen.HEADER + "x = 2\n")
     assert ours.read_text().endswith("x = 2\n")
 
 
@@ -88,6 +88,6 @@ def test_the_generated_loop_names_the_law_and_its_source_digest():
     stress_block, _ = cpu_loops.block_loops(DruckerPrager)
     path = stress_block.py_func.__code__.co_filename
     text = open(path).read()
-    assert text.startswith(cpu_loops.HEADER)
+    assert text.startswith(codegen.HEADER)
     assert "geompm.materials.drucker_prager.dp_stress" in text and "sha256" in text
     assert DP.lam == 1  # the layout the loop's law reads

@@ -1,4 +1,4 @@
-"""Experimental anti-locking stage for the convergence probe (2D only; not a geompm plugin).
+"""Experimental anti-locking pass for the convergence probe (2D only; not a geompm plugin).
 
 After G2P and before the stress update, every particle's volumetric strain rate tr(L) is replaced by
 the volume-weighted mean over the particles of its grid cell (the B-bar idea over cells, Coombs et al.
@@ -6,12 +6,15 @@ the volume-weighted mean over the particles of its grid cell (the B-bar idea ove
 
     PYTHONPATH=benchmarks/convergence python benchmarks/convergence/column_probe.py 0.02 0.01 \\
         --stage cell_volumetric_average:CellVolumetricAverage
+
+A per-cell average is not a per-particle function (stages.py), so this is no stage: the probe runs its
+``apply(state)`` on the host just before each stress update (column_probe.py wraps the backend's
+update_stress).
 """
 
 import numpy as np
 from numba import njit
 
-from geompm.stages import ParticleStage
 
 
 @njit(cache=True)
@@ -32,14 +35,11 @@ def cell_average_trace(p_x, p_L, p_vol, origin, h):
         p_L[p, 1, 1] += corr
 
 
-class CellVolumetricAverage(ParticleStage):
+class CellVolumetricAverage:
     label = "cell_volumetric_average"
-
-    def __init__(self):
-        pass
 
     def setup(self, scene):
         self.grid = scene.grid
 
-    def apply_particles(self, state, dt, time):
+    def apply(self, state):
         cell_average_trace(state.p_x, state.p_L, state.p_vol, self.grid.origin, self.grid.h)

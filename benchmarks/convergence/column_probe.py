@@ -24,6 +24,7 @@ import numpy as np  # noqa: E402
 
 from geompm.api import scene_from_file  # noqa: E402
 from geompm.engine.scheduler import Simulation  # noqa: E402
+from geompm.stages import ParticleStage  # noqa: E402
 from geompm.study.deposit import deposit_front, deposit_height  # noqa: E402
 
 RHO = 2650.0
@@ -39,10 +40,16 @@ def column_sets(aspect, L0):
 def run(h, sets, end, L0, H0, extra_stages=(), save=None):
     scene = scene_from_file(ROOT / "cases" / "column_collapse.json",
                             [f"grid.cell_size={h}", f"time.end={end}", "outputs=[]", *sets])
+    hooks = []
     for stage in extra_stages:
         stage.setup(scene)
-        scene.damping.append(stage)
+        (scene.damping if isinstance(stage, ParticleStage) else hooks).append(stage)
     sim = Simulation(scene)
+    for hook in hooks:  # host passes that are no per-particle function: run just before the stress update
+        def update_stress(dt, inner=sim.backend.update_stress, hook=hook):
+            hook.apply(sim.state)
+            inner(dt)
+        sim.backend.update_stress = update_stress
     t0 = time.perf_counter()
     st = sim.state
     ke_peak = 0.0

@@ -10,39 +10,40 @@ of a velocity rule on floor nodes whose velocity averages 1.5 h of material.
         --set boundaries.2.condition=slip --stage particle_basal_friction:ParticleBasalFriction
 """
 
-import math
-
 import numpy as np
 from numba import njit
 
-from geompm.stages import ParticleStage
+from geompm.stages import NO_AUX, ParticleStage
 
 MU = 0.6009  # tan 31 deg, the shipped floor's coefficient
 
 
-@njit(cache=True)
-def basal_friction(p_x, p_v, p_stress, p_mass, spacing, floor_y, mu, dt):
-    for p in range(p_x.shape[0]):
-        if p_x[p, 1] - floor_y > spacing:
-            continue
-        syy = p_stress[p, 1]
-        if syy >= 0.0:
-            continue
-        dv = mu * (-syy) * spacing * dt / p_mass[p]
-        u = p_v[p, 0]
-        p_v[p, 0] = math.copysign(max(abs(u) - dv, 0.0), u)
+@njit(cache=True, inline="always")
+def basal_friction(prm, aux, dt, k, x, x0, v, C, m, s, work, out):
+    """prm = (spacing [m], floor y [m], mu [-])."""
+    spacing, floor_y, mu = prm[0], prm[1], prm[2]
+    if x[1] - floor_y > spacing:
+        return
+    syy = s[1]
+    if syy >= 0.0:
+        return
+    dv = mu * (-syy) * spacing * dt / m
+    u = v[0]
+    v[0] = np.copysign(max(abs(u) - dv, 0.0), u)
 
 
 class ParticleBasalFriction(ParticleStage):
     label = "particle_basal_friction"
+    name = "particle_basal_friction"
+    particle_rule = basal_friction
 
     def __init__(self):
         pass
 
     def setup(self, scene):
         st = scene.state
-        self.spacing = float(np.sqrt(np.median(st.p_vol)))
-        self.floor = float(scene.grid.origin[1])
+        spacing = float(np.sqrt(np.median(st.p_vol)))
+        self.prm = np.array([spacing, float(scene.grid.origin[1]), MU])
 
-    def apply_particles(self, state, dt, time):
-        basal_friction(state.p_x, state.p_v, state.p_stress, state.p_mass, self.spacing, self.floor, MU, dt)
+    def particle_args(self, dt, time):
+        return self.prm, NO_AUX

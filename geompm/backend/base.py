@@ -6,9 +6,9 @@ One step (engine/scheduler.py) in backend calls:
     view = window()                  the active grid window (engine/grid.py)
     p2g(view, f_scale)               mass, momentum, internal force
     grid_update(view, dt)            momentum balance + gravity
-      ... grid stages on view ...
+    grid_stage(stage, view, dt, time, remap)   each grid stage's node rule or node merge
     g2p(view, dt, set_velocity, move, gradient)
-      ... particle stages on host_state() ...
+    particle_stage(stage, dt, time)            each particle stage's particle rule
     update_stress(dt)                each material block through its law's loop; sets max_rate,
                                      the largest |L_ii| of the step, for the strain-increment limit
 (the next step's CFL limit runs each law's wave-speed loop: engine/timestep.py)
@@ -48,6 +48,14 @@ class Backend:
         raise NotImplementedError
 
     def g2p(self, view, dt: float, set_velocity: bool, move: bool, gradient: bool) -> None:
+        raise NotImplementedError
+
+    def grid_stage(self, stage, view, dt: float, time: float, remap: bool) -> None:
+        """Run a GridStage's node rule (or node merge) over the window and hand it the reduction."""
+        raise NotImplementedError
+
+    def particle_stage(self, stage, dt: float, time: float) -> None:
+        """Run a ParticleStage's particle rule over its blocks and hand it the reduction."""
         raise NotImplementedError
 
     def update_stress(self, dt: float) -> None:

@@ -5,20 +5,24 @@ itself.  The kernels: 2D or 3D P2G/G2P (kernels/transfer2d.py, transfer3d.py)
 specialised at compile time on the stencil support and the transfer scheme
 (kernels/stencil.py); the grid update (kernels/grid_update.py); one generated
 loop per material law (backend/cpu_loops.py); the spatial sort
-(kernels/sort.py).
+(kernels/sort.py); one generated loop per stage function (backend/cpu_stage_loops.py).
 """
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from ..engine.grid import GridBuffers
 from ..kernels.grid_update import grid_update, grid_update_folded, momentum_to_velocity
 from ..kernels.stencil import scheme_tag, stencil_tag
 from ..kernels.transfer2d import g2p_2d, p2g_2d
 from ..kernels.transfer3d import g2p_3d, p2g_3d
+from ..stages import GridStage, ParticleStage
 from .base import Backend
 from .cpu_loops import block_loops
+from .cpu_stage_loops import merge_loop, node_loop, particle_loop
 
 #: the transfer kernels of each dimension
 TRANSFERS = {2: (p2g_2d, g2p_2d), 3: (p2g_3d, g2p_3d)}
@@ -40,7 +44,9 @@ class CpuBackend(Backend):
         #: largest |L_ii| [1/s] of the last stress update (its by-product), None before the first step
         self.max_rate = None
         for mat in scene.materials:
-            block_loops(type(mat))  # generate (or load) every law's loops before the first step
+            block_loops(type(mat))  # generate (or load) every law's and stage's loops before the first step
+        for stage in scene.boundaries + scene.damping + scene.obstacles:
+            self._stage_loops(type(stage))
 
     def host_state(self):
         return self.state
@@ -88,3 +94,66 @@ class CpuBackend(Backend):
 
     def sort_particles(self) -> None:
         self.state.sort_by_cell(self.scene.grid.origin, self.scene.grid.h)
+
+    @staticmethod
+    def _stage_loops(cls):
+        """The loops of a stage class: {'grid': ..., 'particle': ...} for the passes it has."""
+        out = {}
+        if issubclass(cls, GridStage):
+            if (cls.node_rule is None) == (cls.node_image is None):
+                raise TypeError(f"stage '{cls.name}' must define exactly one of node_rule and node_image (stages.py)")
+            out["grid"] = node_loop(cls.node_rule) if cls.node_rule is not None else merge_loop(cls.node_image)
+        if issubclass(cls, ParticleStage):
+            if cls.particle_rule is None:
+                raise TypeError(f"stage '{cls.name}' must define particle_rule (stages.py)")
+            out["particle"] = particle_loop(cls.particle_rule)
+        return out
+
+    def _rows(self, width: int) -> np.ndarray:
+        return np.zeros((self.buffers.nchunks, max(width, 1)))
+
+    def grid_stage(self, stage, view, dt: float, time: float, remap: bool) -> None:
+        args = stage.grid_args(dt, time, remap)
+        if args is None:
+            return
+        cls = type(stage)
+        loop = self._stage_loops(cls)["grid"]
+        v_old = view.g_vel_old if view.g_vel_old is not None else view.g_vel
+        if cls.node_image is not None:
+            loop(args[0], view.lo, view.nloc, view.g_mass, view.g_vel, v_old, view.g_vel_old is not None,
+                 self.buffers.nchunks)
+            return
+        prm, aux = args
+        f = view.g_force if view.g_force is not None else view.g_vel
+        b0, bn = _window_box(stage.node_box(time), view)
+        out = self._rows(cls.node_reduction)
+        g = self.scene.grid
+        loop(prm, aux, dt, g.origin, g.h, view.lo, view.nloc, b0, bn, view.g_mass, view.g_vel, v_old, f,
+             self._rows(self.scene.dim + cls.node_scratch), out)
+        stage.grid_reduced(out, dt, time, remap)
+
+    def particle_stage(self, stage, dt: float, time: float) -> None:
+        args = stage.particle_args(dt, time)
+        if args is None:
+            return
+        prm, aux = args
+        cls = type(stage)
+        loop = self._stage_loops(cls)["particle"]
+        st = self.state
+        out = self._rows(cls.particle_reduction)
+        work = self._rows(cls.particle_scratch)
+        for k in stage.particle_blocks(len(st.blocks)):
+            s, e = st.blocks[k]
+            if e > s:
+                loop(prm, aux, dt, k, s, e, st.p_x, st.p_x0, st.p_v, st.p_C, st.p_mass, st.p_stress, work, out)
+        stage.particle_reduced(out, dt, time)
+
+
+def _window_box(box, view):
+    """A stage's global node box as (first window index, extent) per axis, clipped to the window."""
+    if box is None:
+        return np.zeros_like(view.lo), view.nloc.copy()
+    first, last = box
+    b0 = np.clip(np.asarray(first, np.int64) - view.lo, 0, view.nloc)
+    b1 = np.clip(np.asarray(last, np.int64) - view.lo + 1, 0, view.nloc)
+    return b0, np.maximum(b1 - b0, 0)

@@ -20,23 +20,24 @@ CONDITIONS = {"fixed": 0, "slip": 1, "friction": 2}
 
 
 @njit(cache=True, inline="always")
-def apply_condition(g_vel, idx, normal, condition, mu):
-    """Apply the rule to node ``idx`` of ``g_vel`` (nn, d) in place; normal (d,) unit."""
-    d = g_vel.shape[1]
+def apply_condition(v, normal, condition, mu):
+    """Apply the rule to one velocity ``v`` (d,) in place; normal (d,) unit."""
+    d = v.shape[0]
     if condition == 0:
         for a in range(d):
-            g_vel[idx, a] = 0.0
+            v[a] = 0.0
         return
     vn = 0.0
     for a in range(d):
-        vn += g_vel[idx, a] * normal[a]
+        vn += v[a] * normal[a]
     if vn >= 0.0:
         return
     vt2 = 0.0
     for a in range(d):
-        g_vel[idx, a] -= vn * normal[a]
-        vt2 += g_vel[idx, a] * g_vel[idx, a]
+        v[a] -= vn * normal[a]
+        vt2 += v[a] * v[a]
     if condition == 2 and vt2 > 0.0:
         scale = max(0.0, 1.0 - mu * (-vn) / math.sqrt(vt2))
         for a in range(d):
-            g_vel[idx, a] *= scale
+            v[a] *= scale
+

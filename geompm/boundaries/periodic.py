@@ -7,69 +7,50 @@ nodes beyond the faces are ghosts of their periodic images: after the grid
 update each ghost and its image are merged,
     v = (m_ghost v_ghost + m_image v_image) / (m_ghost + m_image),
 which equals folding mass, momentum and force before the update because the
-explicit update is linear per node.  The scheduler runs it before every other grid
-stage (``phase = MERGE``, stages.py).
+explicit update is linear per node.  The stage gives the image of a node index
+(``node_image``) and the backend merges (stages.py); the scheduler runs it
+before every other grid stage (``phase = MERGE``).
 """
 
 from __future__ import annotations
 
+import math
 from typing import Literal
 
-import numpy as np
-from numba import njit, prange
+from numba import njit
 from pydantic import Field
 
+from ..layout import pack_in_layout, param_layout
 from ..plugin import Params
-from ..stages import MERGE, GridStage, ParticleStage
+from ..stages import MERGE, NO_AUX, GridStage, ParticleStage
+
+#: packed parameters: the periodic axis, its cell count, the grid's lower coordinate on it [m], the period [m]
+PERIODIC = param_layout("axis", "ncells", "lo_x", "period")
 
 
 class PeriodicParams(Params):
     axis: Literal["x", "y", "z"] = Field(description="Periodic axis; the period is the grid extent along it")
 
 
-@njit(cache=True)
-def periodic_fold(g_mass, g_vel, g_vel_old, lo, nloc, axis, ncells, fold_old):
-    """Merge each ghost node with its image: summed mass, mass-weighted velocity (and the
-    pre-update velocity when ``fold_old``, i.e. when the scene keeps one, engine/grid.py)."""
-    nn, d = g_vel.shape
-    inner = 1
-    for a in range(axis + 1, d):
-        inner *= nloc[a]
-    outer = nn // (inner * nloc[axis])
-    for i in range(nloc[axis]):
-        gi = lo[axis] + i
-        if 0 <= gi < ncells:
-            continue
-        j = gi % ncells - lo[axis]
-        if j < 0 or j >= nloc[axis]:
-            continue  # the image is outside the window: the ghost holds the whole node
-        for o in range(outer):
-            for q in range(inner):
-                g = (o * nloc[axis] + i) * inner + q
-                r = (o * nloc[axis] + j) * inner + q
-                m = g_mass[g] + g_mass[r]
-                if m <= 0.0:
-                    continue
-                for a in range(d):
-                    v = (g_mass[g] * g_vel[g, a] + g_mass[r] * g_vel[r, a]) / m
-                    g_vel[g, a] = v
-                    g_vel[r, a] = v
-                    if fold_old:
-                        vo = (g_mass[g] * g_vel_old[g, a] + g_mass[r] * g_vel_old[r, a]) / m
-                        g_vel_old[g, a] = vo
-                        g_vel_old[r, a] = vo
-                g_mass[g] = m
-                g_mass[r] = m
+@njit(cache=True, inline="always")
+def periodic_image(prm, axis, i):
+    """Global node index i along ``axis``: its image i mod ncells on the periodic axis, else itself."""
+    if axis != int(prm[PERIODIC.axis]):
+        return i
+    n = int(prm[PERIODIC.ncells])
+    return i % n
 
 
-@njit(parallel=True, cache=True)
-def periodic_wrap(p_x, p_x0, axis, lo_x, period):
-    for p in prange(p_x.shape[0]):
-        x = p_x[p, axis]
-        if x < lo_x or x >= lo_x + period:
-            shift = np.floor((x - lo_x) / period) * period
-            p_x[p, axis] -= shift
-            p_x0[p, axis] -= shift
+@njit(cache=True, inline="always")
+def periodic_wrap(prm, aux, dt, k, x, x0, v, C, m, s, work, out):
+    """A particle that left the period re-enters at the other side, with its initial position."""
+    a = int(prm[PERIODIC.axis])
+    lo_x = prm[PERIODIC.lo_x]
+    period = prm[PERIODIC.period]
+    if x[a] < lo_x or x[a] >= lo_x + period:
+        shift = math.floor((x[a] - lo_x) / period) * period
+        x[a] -= shift
+        x0[a] -= shift
 
 
 class Periodic(GridStage, ParticleStage):
@@ -77,6 +58,8 @@ class Periodic(GridStage, ParticleStage):
     description = "Periodic boundary along one axis (period = grid extent)"
     Params = PeriodicParams
     phase = MERGE  # folds ghost nodes onto their images before every other grid stage
+    node_image = periodic_image
+    particle_rule = periodic_wrap
 
     @classmethod
     def check(cls, params, case):
@@ -88,15 +71,13 @@ class Periodic(GridStage, ParticleStage):
         return []
 
     def setup(self, scene):
-        self.axis = "xyz".index(self.params.axis)
-        self.ncells = int(scene.grid.ncells[self.axis])
-        self.lo_x = float(scene.grid.origin[self.axis])
-        self.period = self.ncells * scene.grid.h
+        axis = "xyz".index(self.params.axis)
+        ncells = int(scene.grid.ncells[axis])
+        self.prm = pack_in_layout(PERIODIC, {"axis": axis, "ncells": ncells, "lo_x": float(scene.grid.origin[axis]),
+                                             "period": ncells * scene.grid.h}, f"stage '{self.label}'")
 
-    def apply_grid(self, view, dt, time, remap):
-        fold_old = view.g_vel_old is not None
-        old = view.g_vel_old if fold_old else view.g_vel
-        periodic_fold(view.g_mass, view.g_vel, old, view.lo, view.nloc, self.axis, self.ncells, fold_old)
+    def grid_args(self, dt, time, remap):
+        return self.prm, NO_AUX
 
-    def apply_particles(self, state, dt, time):
-        periodic_wrap(state.p_x, state.p_x0, self.axis, self.lo_x, self.period)
+    def particle_args(self, dt, time):
+        return self.prm, NO_AUX

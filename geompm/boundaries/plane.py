@@ -13,8 +13,8 @@ mu = 1.18 tan(theta).  The price: a body arriving at the plane stops about one
 cell earlier (closest approach of a dropped block: 1.2 cells with 0, 2.2 cells
 with one cell), see docs/method.md, "Frictional contact".
 
-After G2P a particle that still ended behind the plane is put back on it
-(halfspace_guard.py), so none is ever deeper than round-off.
+After G2P a particle that still ended behind the plane is put back on it, so
+none is ever deeper than round-off (the half-space of halfspace.py).
 """
 
 from __future__ import annotations
@@ -22,13 +22,10 @@ from __future__ import annotations
 from typing import Literal
 
 import numpy as np
-from numba import njit, prange
 from pydantic import Field, field_validator
 
 from ..plugin import Params, vector_length_problems
-from ..stages import GridStage, ParticleStage
-from .contact import CONDITIONS, apply_condition
-from .halfspace_guard import halfspace_guard
+from .halfspace import HalfSpace
 
 
 class PlaneParams(Params):
@@ -47,23 +44,7 @@ class PlaneParams(Params):
         return v
 
 
-@njit(parallel=True, cache=True)
-def plane_apply(g_vel, g_mass, origin, h, lo, nloc, point, normal, layer, condition, mu):
-    nn, d = g_vel.shape
-    for idx in prange(nn):
-        if g_mass[idx] <= 0.0:
-            continue
-        rem = idx
-        dist = 0.0
-        for a in range(d - 1, -1, -1):
-            i = rem % nloc[a]
-            rem //= nloc[a]
-            dist += (origin[a] + (lo[a] + i) * h - point[a]) * normal[a]
-        if dist <= layer:
-            apply_condition(g_vel, idx, normal, condition, mu)
-
-
-class Plane(GridStage, ParticleStage):
+class Plane(HalfSpace):
     name = "plane"
     description = "Rigid plane of any orientation (point, normal): slip, fixed or Coulomb friction"
     Params = PlaneParams
@@ -76,13 +57,5 @@ class Plane(GridStage, ParticleStage):
         n = np.asarray(self.params.normal, dtype=float)
         self.normal = n / np.linalg.norm(n)
         self.point = np.asarray(self.params.point, dtype=float)
-        self.condition = CONDITIONS[self.params.condition]
-        self.grid = scene.grid
-
-    def apply_grid(self, view, dt, time, remap):
-        plane_apply(view.g_vel, view.g_mass, self.grid.origin, self.grid.h, view.lo, view.nloc,
-                    self.point, self.normal, self.params.contact_layer, self.condition,
-                    self.params.friction)
-
-    def apply_particles(self, state, dt, time):
-        halfspace_guard(state.p_x, state.p_v, self.point, self.normal, self.condition, self.params.friction)
+        self.layer = self.params.contact_layer
+        self.pack_halfspace()

@@ -4,7 +4,10 @@ Acts on the nodes on and beyond the face (global index <= 0 for a '-' side,
 >= ncells for a '+' side), with the unit normal pointing into the domain, by
 the rule of contact.py: ``fixed`` (no slip), ``slip`` (free to separate) or
 ``friction`` (Coulomb, coefficient ``friction``).  After G2P a particle that
-ended beyond the face is put back on it (halfspace_guard.py).
+ended beyond the face is put back on it.  A half-space (halfspace.py) through
+the face, with a contact layer of h / 4 (the nodes lie on the face or whole
+cells away from it); the backend visits only the slab of nodes on and beyond
+the face (``node_box``).
 """
 
 from __future__ import annotations
@@ -12,15 +15,13 @@ from __future__ import annotations
 from typing import Literal
 
 import numpy as np
-from numba import njit
 from pydantic import Field
 
 from ..plugin import Params
-from ..stages import GridStage, ParticleStage
-from .contact import CONDITIONS, apply_condition
-from .halfspace_guard import halfspace_guard
+from .halfspace import HalfSpace
 
 SIDES = ("x-", "x+", "y-", "y+", "z-", "z+")
+FAR = 1 << 40  # a node index beyond any grid
 
 
 class WallParams(Params):
@@ -29,27 +30,7 @@ class WallParams(Params):
     friction: float = Field(0.0, ge=0.0, description="Coulomb coefficient mu [-] (condition 'friction')")
 
 
-@njit(cache=True)
-def wall_apply(g_vel, g_mass, lo, nloc, axis, normal, first, last, condition, mu):
-    """Apply the wall to window nodes whose index along ``axis`` is in [first, last]."""
-    nn, d = g_vel.shape
-    i0 = max(first - lo[axis], 0)
-    i1 = min(last - lo[axis], nloc[axis] - 1)
-    if i1 < i0:
-        return
-    inner = 1
-    for a in range(axis + 1, d):
-        inner *= nloc[a]
-    outer = nn // (inner * nloc[axis])
-    for o in range(outer):
-        for i in range(i0, i1 + 1):
-            for q in range(inner):
-                idx = (o * nloc[axis] + i) * inner + q
-                if g_mass[idx] > 0.0:
-                    apply_condition(g_vel, idx, normal, condition, mu)
-
-
-class Wall(GridStage, ParticleStage):
+class Wall(HalfSpace):
     name = "wall"
     description = "Rigid wall on a grid face: slip, fixed (no-slip) or Coulomb friction"
     Params = WallParams
@@ -61,20 +42,22 @@ class Wall(GridStage, ParticleStage):
         return []
 
     def setup(self, scene):
-        self.axis = SIDES.index(self.params.side) // 2
+        axis = SIDES.index(self.params.side) // 2
         minus = self.params.side.endswith("-")
-        n = int(scene.grid.ncells[self.axis])
+        n = int(scene.grid.ncells[axis])
         self.normal = np.zeros(scene.dim)
-        self.normal[self.axis] = 1.0 if minus else -1.0
-        self.first, self.last = (-(1 << 40), 0) if minus else (n, 1 << 40)
-        self.condition = CONDITIONS[self.params.condition]
+        self.normal[axis] = 1.0 if minus else -1.0
         self.point = scene.grid.origin.astype(float).copy()
         if not minus:
-            self.point[self.axis] = scene.grid.upper[self.axis]
+            self.point[axis] = scene.grid.upper[axis]
+        self.layer = 0.25 * scene.grid.h
+        self.first = np.full(scene.dim, -FAR, np.int64)
+        self.last = np.full(scene.dim, FAR, np.int64)
+        if minus:
+            self.last[axis] = 0
+        else:
+            self.first[axis] = n
+        self.pack_halfspace()
 
-    def apply_grid(self, view, dt, time, remap):
-        wall_apply(view.g_vel, view.g_mass, view.lo, view.nloc, self.axis, self.normal,
-                   self.first, self.last, self.condition, self.params.friction)
-
-    def apply_particles(self, state, dt, time):
-        halfspace_guard(state.p_x, state.p_v, self.point, self.normal, self.condition, self.params.friction)
+    def node_box(self, time):
+        return self.first, self.last

@@ -17,11 +17,11 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 from pydantic import Field
 
 from ..plugin import Params
-from ..stages import DAMPING, ParticleStage
+from ..stages import DAMPING, NO_AUX, ParticleStage
 
 
 class ArtificialParams(Params):
@@ -29,14 +29,15 @@ class ArtificialParams(Params):
     materials: list[str] | None = Field(None, description="Materials damped (default: all)")
 
 
-@njit(parallel=True, cache=True)
-def scale_velocity(p_v, p_C, start, end, factor):
-    d = p_v.shape[1]
-    for p in prange(start, end):
-        for a in range(d):
-            p_v[p, a] *= factor
-            for b in range(d):
-                p_C[p, a, b] *= factor
+@njit(cache=True, inline="always")
+def scale_velocity(prm, aux, dt, k, x, x0, v, C, m, s, work, out):
+    """v <- v exp(-zeta_k dt), and C with it; prm[k] holds the factor exp(-zeta_k dt) of block k."""
+    factor = prm[k]
+    d = v.shape[0]
+    for a in range(d):
+        v[a] *= factor
+        for b in range(d):
+            C[a, b] *= factor
 
 
 class ArtificialDamping(ParticleStage):
@@ -44,6 +45,7 @@ class ArtificialDamping(ParticleStage):
     description = "Linear artificial damping f = -zeta m v, zeta = xi/h sqrt(E/rho) (source eqs. 7-8)"
     Params = ArtificialParams
     phase = DAMPING
+    particle_rule = scale_velocity
 
     @classmethod
     def check(cls, params, case):
@@ -52,12 +54,16 @@ class ArtificialDamping(ParticleStage):
 
     def setup(self, scene):
         names = self.params.materials or scene.material_names
-        self.zeta = np.zeros(len(scene.materials))
+        self.zeta = np.zeros(len(scene.materials))  # [1/s] per material block
         for k, (name, mat) in enumerate(zip(scene.material_names, scene.materials)):
             if name in names:
                 self.zeta[k] = self.params.xi / scene.grid.h * math.sqrt(mat.stiffness() / mat.density)
+        self.factor = np.ones(len(scene.materials))
 
-    def apply_particles(self, state, dt, time):
-        for k, (s, e) in enumerate(state.blocks):
-            if self.zeta[k] > 0.0 and e > s:
-                scale_velocity(state.p_v, state.p_C, s, e, math.exp(-self.zeta[k] * dt))
+    def particle_blocks(self, nblocks):
+        return [k for k in range(nblocks) if self.zeta[k] > 0.0]
+
+    def particle_args(self, dt, time):
+        # the per-block factors, one slot per material block (the layout is the case's material order)
+        np.exp(-self.zeta * dt, out=self.factor)
+        return self.factor, NO_AUX

@@ -17,11 +17,16 @@ it off after an initial stage.
 
 from __future__ import annotations
 
-from numba import njit, prange
+import numpy as np
+from numba import njit
 from pydantic import Field
 
+from ..layout import pack_in_layout, param_layout
 from ..plugin import Params
-from ..stages import DAMPING, GridStage
+from ..stages import DAMPING, NO_AUX, GridStage
+
+#: packed parameters: gravity [m/s2] (3 slots, 2D uses two), alpha [-], the mass below which a node is empty [kg]
+LOCAL = param_layout("gravity_x", "gravity_y", "gravity_z", "alpha", "mass_eps")
 
 
 class LocalParams(Params):
@@ -29,18 +34,16 @@ class LocalParams(Params):
     until: float | None = Field(None, gt=0, description="Simulated time [s] after which damping stops")
 
 
-@njit(parallel=True, cache=True)
-def local_damping(g_mass, g_force, g_vel, g_vel_old, gravity, dt, alpha, mass_eps):
-    nn, d = g_vel.shape
-    for i in prange(nn):
-        m = g_mass[i]
-        if m <= mass_eps:
-            continue
-        for a in range(d):
-            f = g_force[i, a] + m * gravity[a]
-            v = g_vel_old[i, a]
-            sgn = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
-            g_vel[i, a] -= dt * alpha * abs(f) * sgn / m
+@njit(cache=True, inline="always")
+def local_damping(prm, aux, dt, x, m, v, v_old, f, work, out):
+    if m <= prm[LOCAL.mass_eps]:
+        return
+    alpha = prm[LOCAL.alpha]
+    for a in range(v.shape[0]):
+        fa = f[a] + m * prm[LOCAL.gravity_x + a]
+        u = v_old[a]
+        sgn = 1.0 if u > 0.0 else (-1.0 if u < 0.0 else 0.0)
+        v[a] -= dt * alpha * abs(fa) * sgn / m
 
 
 class LocalDamping(GridStage):
@@ -49,13 +52,16 @@ class LocalDamping(GridStage):
     Params = LocalParams
     phase = DAMPING
     needs_split_force = True  # reads the nodal force and the pre-update velocity
+    node_rule = local_damping
 
     def setup(self, scene):
-        self.gravity = scene.gravity
-        self.mass_eps = 1e-9 * float(scene.state.p_mass.min())
+        g = np.zeros(3)
+        g[:scene.dim] = scene.gravity
+        values = {f"gravity_{c}": g[k] for k, c in enumerate("xyz")}
+        values.update(alpha=self.params.alpha, mass_eps=1e-9 * float(scene.state.p_mass.min()))
+        self.prm = pack_in_layout(LOCAL, values, f"stage '{self.label}'")
 
-    def apply_grid(self, view, dt, time, remap):
+    def grid_args(self, dt, time, remap):
         if remap or (self.params.until is not None and time >= self.params.until):
-            return
-        local_damping(view.g_mass, view.g_force, view.g_vel, view.g_vel_old, self.gravity, dt,
-                      self.params.alpha, self.mass_eps)
+            return None
+        return self.prm, NO_AUX

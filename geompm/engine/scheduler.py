@@ -15,7 +15,8 @@ backend's (backend/base.py).
 
 Only the stages the case asks for are in the lists; a case without damping
 has no damping pass.  Stages are ordered by their declared ``phase``
-(stages.py), never by plugin name.
+(stages.py), never by plugin name; each gives per-node or per-particle
+functions that the backend runs (``grid_stage``, ``particle_stage``).
 """
 
 from __future__ import annotations
@@ -62,13 +63,12 @@ class Simulation:
         be.p2g(view, 1.0 if be.split_force else dt)
         be.grid_update(view, dt)
         for stage in self.grid_stages:
-            stage.apply_grid(view, dt, self.time, False)
+            be.grid_stage(stage, view, dt, self.time, False)
         return view
 
     def _end(self, view, dt):
-        state = self.state
         for stage in self.particle_stages:
-            stage.apply_particles(state, dt, self.time)
+            self.backend.particle_stage(stage, dt, self.time)
         self.backend.update_stress(dt)
         self.view = view
         self.dt = dt
@@ -87,7 +87,7 @@ class Simulation:
         be.p2g(view, 0.0)
         be.remap_velocity(view)
         for stage in self.grid_stages:
-            stage.apply_grid(view, dt, self.time, True)
+            be.grid_stage(stage, view, dt, self.time, True)
         be.g2p(view, dt, False, True, True)
         self._end(view, dt)
 

@@ -36,7 +36,7 @@ import numpy as np
 from pydantic import Field
 
 from ..plugin import Params, Plugin
-from .layout import pack_in_layout, param_layout
+from ..layout import pack_in_layout, param_layout
 
 
 class MaterialParams(Params):
@@ -57,7 +57,7 @@ class Material(Plugin):
 
     def __init__(self, params):
         self.params = params
-        self.prm = pack_in_layout(self.layout, self.pack(params), self.name)
+        self.prm = pack_in_layout(self.layout, self.pack(params), f"material '{self.name}'")
 
     # -- to be provided by each law -------------------------------------------------
     @classmethod

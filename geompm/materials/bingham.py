@@ -23,7 +23,7 @@ from pydantic import Field
 
 from .base import MaterialParams
 from .fluid import set_fluid_stress, shear_rate
-from .layout import param_layout
+from ..layout import param_layout
 from .tait import EOS, TaitFluid, eos_pressure
 
 #: packed parameters: EOS, mu_B [Pa s], tau_B [Pa], M [s]

@@ -25,7 +25,7 @@ from pydantic import Field, model_validator
 from ..plugin import Params
 from .base import MaterialParams
 from .fluid import set_fluid_stress, shear_rate
-from .layout import param_layout
+from ..layout import param_layout
 from .tait import EOS, TaitFluid, eos_pressure
 
 #: packed parameters: EOS, mu_0 and mu_inf [Pa s], A [s], m [-]

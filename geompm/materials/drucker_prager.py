@@ -35,7 +35,7 @@ import numpy as np
 from numba import njit
 from pydantic import Field, model_validator
 
-from .layout import param_layout
+from ..layout import param_layout
 from .plasticity import ELASTIC, ElastoplasticParams, FrictionalMaterial, elastic_trial, set_scaled_deviator, sqrt_j2
 
 SQ3 = math.sqrt(3.0)

@@ -24,7 +24,7 @@ from numba import njit
 from pydantic import model_validator
 
 from ..kernels.eigen3 import sym_eig3
-from .layout import param_layout
+from ..layout import param_layout
 from .plasticity import ELASTIC, ElastoplasticParams, FrictionalMaterial, elastic_trial
 
 #: packed parameters: ELASTIC, sin and cos of phi, sin psi, cohesion c [Pa], dilatancy cut-off eps_v^p [-]

@@ -15,7 +15,7 @@ from pydantic import Field
 
 from .base import MaterialParams
 from .fluid import set_fluid_stress
-from .layout import param_layout
+from ..layout import param_layout
 from .tait import EOS, TaitFluid, eos_pressure
 
 #: packed parameters: EOS, dynamic viscosity mu [Pa s]

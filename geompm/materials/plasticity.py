@@ -16,7 +16,7 @@ from pydantic import Field
 
 from ..kernels.voigt import jaumann_increment
 from .base import Material, MaterialParams
-from .layout import param_layout
+from ..layout import param_layout
 
 #: the first slots of every law with an isotropic elastic part: rho0 [kg/m3], Lame lambda and G [Pa]
 ELASTIC = param_layout("density", "lam", "G")

@@ -20,7 +20,7 @@ import math
 from numba import njit
 
 from .base import Material
-from .layout import param_layout
+from ..layout import param_layout
 
 #: the first slots of every Tait-EOS law
 EOS = param_layout("density", "sound_speed", "eos_exponent")

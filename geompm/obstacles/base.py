@@ -28,10 +28,14 @@ from pydantic import Field
 from ..boundaries.contact import CONDITIONS
 from ..errors import CaseError
 from ..plugin import Params, vector_length_problems
-from ..stages import OBSTACLE, GridStage, ParticleStage
-from .contact_force import contact_and_record
-from .guard import guard_particles, guard_spacing, lattice_points
+from ..layout import pack_in_layout
+from ..stages import OBSTACLE as OBSTACLE_PHASE
+from ..stages import GridStage, ParticleStage
+from .contact_force import COUNT, DEPTH, FORCE_SLOTS, OBSTACLE, contact_and_record
+from .guard import guard_rule, guard_spacing, lattice_points
 from .sdf_field import interp_field, sdf_lattice
+
+O = OBSTACLE
 
 
 class ObstacleParams(Params):
@@ -44,45 +48,34 @@ class ObstacleParams(Params):
                                                                "centre of the obstacle's bounding box")
 
 
-@njit(cache=True)
-def obstacle_apply(g_vel, g_mass, origin, h, lo, nloc, field, lat_origin, lat_shape, shift, vel, layer,
-                   condition, mu, inv_dt, moment_point, out):
-    """Contact on window nodes; out[0:d] force on the obstacle, out[d] f_n, out[d+1:2d+1] sum f_n n,
-    out[2d+1:2d+4] moment (3 components)."""
-    nn, d = g_vel.shape
-    inv_h = 1.0 / h
-    x = np.empty(d)
-    normal = np.empty(d)
-    before = np.empty(d)
-    f = np.empty(d)
-    base = np.empty(d, np.int64)
-    frac = np.empty(d)
-    val = np.empty(d + 1)
-    for j in range(out.shape[0]):
-        out[j] = 0.0
-    lat_hi = np.empty(d)
+@njit(cache=True, inline="always")
+def obstacle_node_rule(prm, field, dt, x, m, v, v_old, f, work, out):
+    """Contact on one node; ``field`` the contact lattice (points, 1 + d); out[0:d] force on the
+    obstacle, out[d] f_n, out[d+1:2d+1] sum f_n n, out[2d+1:2d+4] moment (3 components)."""
+    d = x.shape[0]
+    hl = prm[O.spacing]
+    for a in range(d):  # nodes outside the lattice leave here, before any view is made
+        lo = prm[O.lat_x + a]
+        xa = x[a] - prm[O.shift_x + a]
+        if xa < lo or xa > lo + (prm[O.shape_x + a] - 1.0) * hl:
+            return
+    xf = work[0:d]  # the node in the obstacle's frame
+    normal = work[d:2 * d]
+    before = work[2 * d:3 * d]
+    fo = work[3 * d:4 * d]
+    base = work[4 * d:5 * d]
+    frac = work[5 * d:6 * d]
+    val = work[6 * d:7 * d + 1]
+    shift = prm[O.shift_x:O.shift_x + d]
     for a in range(d):
-        lat_hi[a] = lat_origin[a] + (lat_shape[a] - 1) * h
-    for idx in range(nn):
-        m = g_mass[idx]
-        if m <= 0.0:
-            continue
-        rem = idx
-        inside_box = True
-        for a in range(d - 1, -1, -1):
-            i = rem % nloc[a]
-            rem //= nloc[a]
-            x[a] = origin[a] + (lo[a] + i) * h - shift[a]
-            if x[a] < lat_origin[a] or x[a] > lat_hi[a]:
-                inside_box = False
-        if not inside_box:
-            continue
-        interp_field(field, lat_origin, inv_h, lat_shape, x, base, frac, val)
-        if val[0] > layer:
-            continue
-        for a in range(d):
-            normal[a] = val[1 + a]
-        contact_and_record(g_vel, idx, normal, vel, condition, mu, m, inv_dt, x, shift, moment_point, before, f, out)
+        xf[a] = x[a] - shift[a]
+    interp_field(field, prm[O.lat_x:O.lat_x + d], 1.0 / hl, prm[O.shape_x:O.shape_x + d], xf, base, frac, val)
+    if val[0] > prm[O.layer]:
+        return
+    for a in range(d):
+        normal[a] = val[1 + a]
+    contact_and_record(v, normal, prm[O.vel_x:O.vel_x + d], int(prm[O.condition]), prm[O.mu], m, 1.0 / dt, xf,
+                       shift, prm[O.moment_x:O.moment_x + d], before, fo, out)
 
 
 GUARD_POINTS_MAX = 2e7  # lattice points of one obstacle's guard field (4 doubles each in 3D: 640 MB)
@@ -96,7 +89,13 @@ class RigidObstacle(GridStage, ParticleStage):
     guard of guard.py, after G2P); the force history is the sum of both."""
 
     Params = ObstacleParams
-    phase = OBSTACLE
+    phase = OBSTACLE_PHASE
+    node_rule = obstacle_node_rule
+    node_scratch = 7 * 3 + 1
+    node_reduction = FORCE_SLOTS
+    particle_rule = guard_rule
+    particle_scratch = 8 * 3 + 1
+    particle_reduction = DEPTH + 1
 
     @classmethod
     def check(cls, params, case):
@@ -133,10 +132,9 @@ class RigidObstacle(GridStage, ParticleStage):
         self.vel = np.zeros(scene.dim) if v is None else np.asarray(v, float)
         mp = self.params.moment_point
         self.moment_point = 0.5 * (lo + hi) if mp is None else np.asarray(mp, float)
-        self.condition = CONDITIONS[self.params.condition]
-        self.out = np.zeros(2 * scene.dim + 4)
-        self.remap_out = np.zeros_like(self.out)  # MUSL's second application: not counted
-        self.guard_out = np.zeros(2 * scene.dim + 5)
+        self.grid_prm = self._pack(self.lat_origin, self.lat_shape, h)
+        self.guard_prm = self._pack(self.guard_origin, self.guard_shape, self.guard_h)
+        self.grid_out = np.zeros(FORCE_SLOTS)  # the grid pass of this step (MUSL's second pass is not counted)
         self.force = np.zeros(scene.dim)
         self.peak = (0.0, 0.0)  # (|F|, time)
         self.fn = self.ft = 0.0  # normal and tangential force magnitudes [N, N/m in 2D]
@@ -144,23 +142,45 @@ class RigidObstacle(GridStage, ParticleStage):
         self.particles_put_back = 0  # by the guard, over the run
         self.max_depth = 0.0  # deepest penetration the guard corrected [m]
 
-    def apply_grid(self, view, dt, time, remap):
-        shift = self.vel * time
-        obstacle_apply(
-            view.g_vel, view.g_mass, self.grid.origin, self.grid.h, view.lo, view.nloc, self.field,
-            self.lat_origin, self.lat_shape, shift, self.vel, self.params.contact_layer, self.condition,
-            self.params.friction, 1.0 / dt, self.moment_point, self.remap_out if remap else self.out)
-        # forces are those of the first application in the step; apply_particles adds the guard's
-
-    def apply_particles(self, state, dt, time):
-        shift = self.vel * (time + dt)
-        depth = guard_particles(state.p_x, state.p_v, state.p_mass, dt, self.guard_field, self.guard_origin,
-                                self.guard_h, self.guard_shape, shift, self.vel, self.condition,
-                                self.params.friction, self.moment_point, self.guard_out)
-        self.max_depth = max(self.max_depth, depth)
-        self.particles_put_back += int(self.guard_out[-1])
+    def _pack(self, lat_origin, lat_shape, spacing):
         d = self.dim
-        total = self.out + self.guard_out[:-1]
+        vec = {}
+        for name, value in (("lat", lat_origin), ("shape", lat_shape), ("shift", np.zeros(d)), ("vel", self.vel),
+                            ("moment", self.moment_point)):
+            full = np.zeros(3)
+            full[:d] = value
+            vec.update({f"{name}_{c}": full[k] for k, c in enumerate("xyz")})
+        vec.update(spacing=spacing, layer=self.params.contact_layer, condition=CONDITIONS[self.params.condition],
+                   mu=self.params.friction)
+        return pack_in_layout(OBSTACLE, vec, f"stage '{self.label}'")
+
+    def _shifted(self, prm, time):
+        prm[O.shift_x:O.shift_x + self.dim] = self.vel * time
+        return prm
+
+    def grid_args(self, dt, time, remap):
+        return self._shifted(self.grid_prm, time), self.field
+
+    def node_box(self, time):
+        """The contact lattice's nodes, moved with the obstacle."""
+        h, origin = self.grid.h, self.grid.origin
+        lo = self.lat_origin + self.vel * time
+        first = np.floor((lo - origin) / h).astype(np.int64)
+        last = np.ceil((lo + (self.lat_shape - 1) * h - origin) / h).astype(np.int64)
+        return first, last
+
+    def grid_reduced(self, out, dt, time, remap):
+        if not remap:  # forces are those of the first application in the step; the guard's are added
+            self.grid_out[:] = out.sum(axis=0)
+
+    def particle_args(self, dt, time):
+        return self._shifted(self.guard_prm, time + dt), self.guard_field
+
+    def particle_reduced(self, out, dt, time):
+        d = self.dim
+        self.max_depth = max(self.max_depth, float(out[:, DEPTH].max()))
+        self.particles_put_back += int(round(out[:, COUNT].sum()))
+        total = self.grid_out + out[:, :FORCE_SLOTS].sum(axis=0)
         self.force = total[:d].copy()
         self.fn = total[d]
         self.ft = float(np.linalg.norm(total[:d] - total[d + 1:2 * d + 1]))

@@ -1,7 +1,7 @@
 """The contact rule on one velocity against a rigid obstacle, and the force that it records.
 
-Shared by the grid contact on nodes (base.obstacle_apply) and the particle
-guard (guard.guard_particles): the velocity relative to the obstacle gets
+Shared by the grid contact on nodes (base.obstacle_node_rule) and the particle
+guard (guard.guard_rule): the velocity relative to the obstacle gets
 the rule of boundaries/contact.py along the unit normal n = grad(phi)/|grad(phi)|,
 and the momentum that removed, f = -m (v_after - v_before) / dt, is added to
 the obstacle's ``out``: f (0:d), its normal part f_n = -f . n (d; pushing into
@@ -16,16 +16,27 @@ import math
 from numba import njit
 
 from ..boundaries.contact import apply_condition
+from ..layout import param_layout
+
+#: an obstacle's packed parameters (3 slots per vector, 2D uses two): its signed-distance lattice (first
+#: point [m], points per axis, spacing [m]), its displacement at the pass's time [m], its velocity [m/s],
+#: the moment's reference point [m], the contact layer [m], the condition (boundaries/contact.py) and
+#: the Coulomb coefficient [-]
+OBSTACLE = param_layout("lat_x", "lat_y", "lat_z", "shape_x", "shape_y", "shape_z", "spacing",
+                        "shift_x", "shift_y", "shift_z", "vel_x", "vel_y", "vel_z",
+                        "moment_x", "moment_y", "moment_z", "layer", "condition", "mu")
+FORCE_SLOTS = 10  # out[0:2d+4] (below) for d <= 3
+COUNT, DEPTH = FORCE_SLOTS, FORCE_SLOTS + 1  # the guard's corrections and its deepest penetration [m]
 
 
 @njit(cache=True, inline="always")
-def contact_and_record(v, i, normal, vel, condition, mu, m, inv_dt, x, shift, moment_point, before, f, out):
-    """Apply the rule to v[i] (d,) with ``normal`` holding grad(phi) (normalised here, in place).
+def contact_and_record(v, normal, vel, condition, mu, m, inv_dt, x, shift, moment_point, before, f, out):
+    """Apply the rule to the velocity v (d,) with ``normal`` holding grad(phi) (normalised here, in place).
 
     ``x`` is the point in the obstacle's frame, ``shift`` its displacement, so
     x + shift is where the force acts.  Returns False, and changes nothing, if
     the gradient is zero."""
-    d = v.shape[1]
+    d = v.shape[0]
     norm = 0.0
     for a in range(d):
         norm += normal[a] * normal[a]
@@ -34,13 +45,13 @@ def contact_and_record(v, i, normal, vel, condition, mu, m, inv_dt, x, shift, mo
     norm = math.sqrt(norm)
     for a in range(d):
         normal[a] /= norm
-        before[a] = v[i, a]
-        v[i, a] -= vel[a]
-    apply_condition(v, i, normal, condition, mu)
+        before[a] = v[a]
+        v[a] -= vel[a]
+    apply_condition(v, normal, condition, mu)
     fn = 0.0
     for a in range(d):
-        v[i, a] += vel[a]
-        f[a] = -m * (v[i, a] - before[a]) * inv_dt  # force on the obstacle
+        v[a] += vel[a]
+        f[a] = -m * (v[a] - before[a]) * inv_dt  # force on the obstacle
         out[a] += f[a]
         fn -= f[a] * normal[a]  # normal points out of the obstacle: pushing in is positive
     out[d] += fn

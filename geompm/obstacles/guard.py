@@ -32,115 +32,109 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .contact_force import contact_and_record
+from .contact_force import COUNT, DEPTH, OBSTACLE, contact_and_record
 from .sdf_field import interp_field
 
 GUARD_REFINE = 4  # lattice spacing at most h / GUARD_REFINE
 MIN_STEP = 0.25  # marching step at least MIN_STEP * hs
 BISECTIONS = 30
+O = OBSTACLE
 
 
-@njit(cache=True, inline="always")
-def _phi(field, lat_origin, inv_hs, lat_shape, x, base, frac, val):
-    interp_field(field, lat_origin, inv_hs, lat_shape, x, base, frac, val)
+@njit(cache=True)  # a call, not inlined: five uses in guard_rule would make its loops slow to compile
+def _phi(field, prm, x, base, frac, val):
+    d = x.shape[0]
+    interp_field(field, prm[O.lat_x:O.lat_x + d], 1.0 / prm[O.spacing], prm[O.shape_x:O.shape_x + d], x, base,
+                 frac, val)
     return val[0]
 
 
 @njit(cache=True, inline="always")
-def _inside_lattice(x, lo, hi):
+def _inside_lattice(x, prm):
     for a in range(x.shape[0]):
-        if x[a] < lo[a] or x[a] > hi[a]:
+        lo = prm[O.lat_x + a]
+        if x[a] < lo or x[a] > lo + (prm[O.shape_x + a] - 1.0) * prm[O.spacing]:
             return False
     return True
 
 
-@njit(cache=True)
-def guard_particles(p_x, p_v, p_mass, dt, field, lat_origin, hs, lat_shape, shift, vel, condition, mu,
-                    moment_point, out):
-    """Put back every particle inside or through the obstacle; out as in base.obstacle_apply, plus
-    out[2d+4] = particles corrected.  Returns the largest depth [m] found before correction."""
-    n, d = p_x.shape
-    k = out.shape[0]
-    inv_hs = 1.0 / hs
-    inv_dt = 1.0 / dt
-    lo = np.empty(d)
-    hi = np.empty(d)
+@njit(cache=True, inline="always")
+def guard_rule(prm, field, dt, k, p_x, x0, p_v, C, m, s, work, out):
+    """Put back the particle if it is inside or went through the obstacle; ``field`` the guard lattice
+    (points, 1 + d); out as in base.obstacle_node_rule, plus out[COUNT] (corrections) and out[DEPTH]
+    (the largest depth [m] found before correction)."""
+    d = p_x.shape[0]
+    hs = prm[O.spacing]
+    for a in range(d):  # most particles leave here, before any view is made
+        lo = prm[O.lat_x + a]
+        xa = p_x[a] - prm[O.shift_x + a]
+        if xa < lo or xa > lo + (prm[O.shape_x + a] - 1.0) * hs:
+            return
+    x = work[0:d]
+    xo = work[d:2 * d]
+    y = work[2 * d:3 * d]
+    f = work[3 * d:4 * d]
+    normal = work[4 * d:5 * d]
+    base = work[5 * d:6 * d]
+    frac = work[6 * d:7 * d]
+    val = work[7 * d:8 * d + 1]
+    shift = prm[O.shift_x:O.shift_x + d]
     for a in range(d):
-        lo[a] = lat_origin[a]
-        hi[a] = lat_origin[a] + (lat_shape[a] - 1) * hs
-    x = np.empty(d)
-    xo = np.empty(d)
-    y = np.empty(d)
-    f = np.empty(d)
-    normal = np.empty(d)
-    base = np.empty(d, np.int64)
-    frac = np.empty(d)
-    val = np.empty(d + 1)
-    acc = np.zeros(k + 1)  # out's entries, then the deepest penetration
-    # serial: almost every particle leaves at the bounding-box test, and it compiles fast
-    for p in range(n):
-        for a in range(d):
-            x[a] = p_x[p, a] - shift[a]
-            xo[a] = x[a] - dt * p_v[p, a]
-        if not _inside_lattice(x, lo, hi):
-            continue
-        phi = _phi(field, lat_origin, inv_hs, lat_shape, x, base, frac, val)
-        hit = False
-        if phi < 0.0:
-            hit = True
-            acc[k] = max(acc[k], -phi)
-            for _ in range(2):  # project onto phi = 0 along the gradient
-                g2 = 0.0
-                for a in range(d):
-                    g2 += val[1 + a] * val[1 + a]
-                if g2 == 0.0:
-                    break
-                for a in range(d):
-                    x[a] -= phi * val[1 + a] / g2
-                phi = _phi(field, lat_origin, inv_hs, lat_shape, x, base, frac, val)
-        elif _inside_lattice(xo, lo, hi):
-            seg = 0.0
+        x[a] = p_x[a] - shift[a]
+        xo[a] = x[a] - dt * p_v[a]
+    phi = _phi(field, prm, x, base, frac, val)
+    hit = False
+    if phi < 0.0:
+        hit = True
+        out[DEPTH] = max(out[DEPTH], -phi)
+        for _ in range(2):  # project onto phi = 0 along the gradient
+            g2 = 0.0
             for a in range(d):
-                seg += (x[a] - xo[a]) ** 2
-            seg = np.sqrt(seg)
-            phi0 = _phi(field, lat_origin, inv_hs, lat_shape, xo, base, frac, val)
-            if seg > 0.0 and -hs < phi0 < seg:  # a start on the surface (phi0 ~ 0) is marched too
-                t_out, t = 0.0, 0.0
-                cur = max(phi0, 0.0)
-                while t < 1.0:
-                    t_out = t
-                    t = min(1.0, t + max(cur, MIN_STEP * hs) / seg)
-                    for a in range(d):
-                        y[a] = xo[a] + t * (x[a] - xo[a])
-                    cur = _phi(field, lat_origin, inv_hs, lat_shape, y, base, frac, val)
-                    if cur < 0.0:
-                        hit = True
-                        break
-                if hit:
-                    t_in = t
-                    for _ in range(BISECTIONS):
-                        tm = 0.5 * (t_out + t_in)
-                        for a in range(d):
-                            y[a] = xo[a] + tm * (x[a] - xo[a])
-                        if _phi(field, lat_origin, inv_hs, lat_shape, y, base, frac, val) < 0.0:
-                            t_in = tm
-                        else:
-                            t_out = tm
-                    for a in range(d):
-                        x[a] = xo[a] + t_out * (x[a] - xo[a])
-                    _phi(field, lat_origin, inv_hs, lat_shape, x, base, frac, val)
-        if not hit:
-            continue
+                g2 += val[1 + a] * val[1 + a]
+            if g2 == 0.0:
+                break
+            for a in range(d):
+                x[a] -= phi * val[1 + a] / g2
+            phi = _phi(field, prm, x, base, frac, val)
+    elif _inside_lattice(xo, prm):
+        seg = 0.0
         for a in range(d):
-            normal[a] = val[1 + a]
-            p_x[p, a] = x[a] + shift[a]
-        if not contact_and_record(p_v, p, normal, vel, condition, mu, p_mass[p], inv_dt, x, shift, moment_point,
-                                  y, f, acc):
-            continue
-        acc[2 * d + 4] += 1.0
-    for j in range(k):
-        out[j] = acc[j]
-    return acc[k]
+            seg += (x[a] - xo[a]) ** 2
+        seg = np.sqrt(seg)
+        phi0 = _phi(field, prm, xo, base, frac, val)
+        if seg > 0.0 and -hs < phi0 < seg:  # a start on the surface (phi0 ~ 0) is marched too
+            t_out, t = 0.0, 0.0
+            cur = max(phi0, 0.0)
+            while t < 1.0:
+                t_out = t
+                t = min(1.0, t + max(cur, MIN_STEP * hs) / seg)
+                for a in range(d):
+                    y[a] = xo[a] + t * (x[a] - xo[a])
+                cur = _phi(field, prm, y, base, frac, val)
+                if cur < 0.0:
+                    hit = True
+                    break
+            if hit:
+                t_in = t
+                for _ in range(BISECTIONS):
+                    tm = 0.5 * (t_out + t_in)
+                    for a in range(d):
+                        y[a] = xo[a] + tm * (x[a] - xo[a])
+                    if _phi(field, prm, y, base, frac, val) < 0.0:
+                        t_in = tm
+                    else:
+                        t_out = tm
+                for a in range(d):
+                    x[a] = xo[a] + t_out * (x[a] - xo[a])
+                _phi(field, prm, x, base, frac, val)
+    if not hit:
+        return
+    for a in range(d):
+        normal[a] = val[1 + a]
+        p_x[a] = x[a] + shift[a]
+    if contact_and_record(p_v, normal, prm[O.vel_x:O.vel_x + d], int(prm[O.condition]), prm[O.mu], m, 1.0 / dt,
+                          x, shift, prm[O.moment_x:O.moment_x + d], y, f, out):
+        out[COUNT] += 1.0
 
 
 def guard_spacing(h: float, thinnest: float | None) -> float:

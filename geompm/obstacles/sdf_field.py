@@ -14,7 +14,10 @@ from numba import njit
 
 @njit(cache=True, inline="always")
 def interp_field(field, lat_origin, inv_h, shape, x, base, frac, out):
-    """Trilinear (bilinear in 2D) interpolation of a flat lattice field (points, k) at x (d,) into out (k,)."""
+    """Trilinear (bilinear in 2D) interpolation of a flat lattice field (points, k) at x (d,) into out (k,).
+
+    ``lat_origin`` and ``shape`` (d,) the lattice's first point [m] and points per axis (any numeric
+    sequences: slices of a stage's packed parameters); ``base`` and ``frac`` (d,) float scratch."""
     d = x.shape[0]
     k = field.shape[1]
     for c in range(k):
@@ -22,7 +25,7 @@ def interp_field(field, lat_origin, inv_h, shape, x, base, frac, out):
     for a in range(d):
         xi = (x[a] - lat_origin[a]) * inv_h
         i = int(np.floor(xi))
-        i = min(max(i, 0), shape[a] - 2)
+        i = min(max(i, 0), int(shape[a]) - 2)
         base[a] = i
         frac[a] = min(max(xi - i, 0.0), 1.0)
     for corner in range(1 << d):
@@ -31,7 +34,7 @@ def interp_field(field, lat_origin, inv_h, shape, x, base, frac, out):
         for a in range(d):
             bit = (corner >> a) & 1
             w *= frac[a] if bit else 1.0 - frac[a]
-            flat = flat * shape[a] + base[a] + bit
+            flat = flat * int(shape[a]) + int(base[a]) + bit
         if w == 0.0:
             continue
         for c in range(k):

@@ -21,6 +21,8 @@ backend/cpu_loops.py) on a block of particles with
 - ``wave_speed_monotone``: ``particle_wave_speed`` is positive, finite and monotone
   in the density from rho0/100 to 10 rho0 (the backend evaluates it at a block's
   lowest and highest density only);
+- ``no_allocation``: the stress loop over 4 N particles makes as many numba
+  allocations as over N (the law allocates nothing per particle);
 - ``plastic_dissipation``: laws with an isotropic elastic part (``youngs_modulus``
   and ``poisson_ratio`` among their parameters) never return energy from plastic
   flow.  Over random strain paths, a quarter of them stretched through the apex
@@ -184,7 +186,36 @@ def check_wave_speed_monotone(law):
     assert both == max(c[0], c[-1]), f"{law.name}: the block's speed {both} is not the larger of its extremes"
 
 
+def check_no_allocation(law):
+    """One pass of the engine's stress loop over N and over 4 N particles: the same number of numba
+    allocations (numba's runtime counters), so the law allocates nothing per particle."""
+    from numba.core.runtime import _nrt_python, rtsys
+
+    from ..backend.cpu_loops import block_loops
+
+    stress_block = block_loops(law)[0]
+    counts = []
+    enabled = _nrt_python.memsys_stats_enabled()
+    _nrt_python.memsys_enable_stats()
+    try:
+        for reps in (1, 4, 1, 4):
+            mat, stress, rho, state = _start(law)
+            stress, rho, state = np.tile(stress, (reps, 1)), np.tile(rho, reps), np.tile(state, (reps, 1))
+            L = np.zeros((len(rho), 3, 3))
+            L[:, 0, 1] = 1.0
+            before = rtsys.get_allocation_stats().alloc
+            stress_block(mat.prm, 1e-4, L, rho, stress, state)
+            counts.append(rtsys.get_allocation_stats().alloc - before)
+    finally:
+        if not enabled:
+            _nrt_python.memsys_disable_stats()
+    assert counts[2] == counts[3], (
+        f"{law.name}: the stress loop allocated {counts[3] - counts[2]} more arrays over {4 * N} particles "
+        f"than over {N}: particle_stress must not allocate (no np.empty, no slicing copies)")
+
+
 MATERIAL_CHECKS = {
+    "no_allocation": check_no_allocation,
     "wave_speed_monotone": check_wave_speed_monotone,
     "plastic_dissipation": check_plastic_dissipation,
     "zero_rate": check_zero_rate,

@@ -29,7 +29,7 @@ from pydantic import Field, model_validator
 
 from geompm.materials.base import Material, MaterialParams
 from geompm.materials.fluid import shear_rate
-from geompm.materials.layout import param_layout
+from geompm.layout import param_layout
 from geompm.materials.plasticity import ELASTIC, elastic_trial, elastic_wave_speed, set_scaled_deviator, sqrt_j2
 
 #: packed parameters: ELASTIC, mu_s, mu_2, I_0 [-], d [m], rho_s [kg/m3]

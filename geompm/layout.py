@@ -1,9 +1,9 @@
-"""Named positions of a law's packed parameters.
+"""Named positions of a plugin's packed parameters (a law's, a stage's).
 
-A law's kernel reads its parameters from one float64 array ``prm`` (a flat
-array is what every backend can hand to a kernel: a CPU loop, a GPU device
-function).  The positions are never written as bare numbers: each law declares
-its layout once,
+A law's or a stage's per-item function reads its parameters from one float64
+array ``prm`` (a flat array is what every backend can hand to a kernel: a CPU
+loop, a GPU device function).  The positions are never written as bare
+numbers: each law or stage declares its layout once,
 
     DP = param_layout(ELASTIC, "alpha", "k", "beta", "tension_cutoff", "dilation_cutoff")
 
@@ -34,7 +34,7 @@ def param_layout(*parts):
     return cls(*range(len(names)))
 
 
-def pack_in_layout(layout, values: dict, law: str):
+def pack_in_layout(layout, values: dict, owner: str):
     """The float64 array of ``values`` in ``layout`` order; a TypeError names a missing or extra key."""
     import numpy as np
 
@@ -42,6 +42,6 @@ def pack_in_layout(layout, values: dict, law: str):
     missing = [k for k in want if k not in values]
     extra = [k for k in values if k not in want]
     if missing or extra:
-        raise TypeError(f"material '{law}': pack() must return exactly the layout's keys {want}; "
+        raise TypeError(f"{owner}: the packed parameters must be exactly the layout's keys {want}; "
                         f"missing {missing}, unexpected {extra}")
     return np.array([float(values[k]) for k in want], dtype=np.float64)

@@ -1,0 +1,76 @@
+"""A rigid half-space on the grid and on the particles: the shared base of ``wall`` and ``plane``.
+
+On grid nodes: every node whose signed distance (x_i - point) . n is <=
+``layer`` gets the contact rule of contact.py (``slip``, ``fixed`` or
+``friction``), n the unit normal pointing from the surface into the material.
+On particles, after G2P: a particle that still ended behind the surface is
+put back on it, so none is ever deeper than round-off (a fast particle, or a
+plane that cuts the cells between nodes, can end a step behind it).  Both are per-item functions run by the backend (stages.py).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..layout import pack_in_layout, param_layout
+from ..stages import NO_AUX, GridStage, ParticleStage
+from .contact import CONDITIONS, apply_condition
+
+#: packed parameters: a point on the surface [m] and the unit normal into the material (3 slots each,
+#: 2D uses the first two), the contact condition (contact.CONDITIONS), the Coulomb coefficient [-],
+#: the contact layer [m]
+HALFSPACE = param_layout("point_x", "point_y", "point_z", "normal_x", "normal_y", "normal_z",
+                         "condition", "mu", "layer")
+P0, N0 = HALFSPACE.point_x, HALFSPACE.normal_x
+
+
+@njit(cache=True, inline="always")
+def halfspace_node_rule(prm, aux, dt, x, m, v, v_old, f, work, out):
+    d = x.shape[0]
+    dist = 0.0
+    for a in range(d):
+        dist += (x[a] - prm[P0 + a]) * prm[N0 + a]
+    if dist <= prm[HALFSPACE.layer]:
+        apply_condition(v, prm[N0:N0 + d], int(prm[HALFSPACE.condition]), prm[HALFSPACE.mu])
+
+
+@njit(cache=True, inline="always")
+def halfspace_particle_rule(prm, aux, dt, k, x, x0, v, C, m, s, work, out):
+    """A particle with phi = (x - point) . n < 0 is put back on the surface, x <- x - phi n, and its
+    velocity gets the nodes' rule.  phi is exact for a plane, so this leaves phi >= 0 up to
+    round-off; a half-space cannot be crossed within a step without ending behind it, so the end
+    position is the whole test."""
+    d = x.shape[0]
+    phi = 0.0
+    for a in range(d):
+        phi += (x[a] - prm[P0 + a]) * prm[N0 + a]
+    if phi >= 0.0:
+        return
+    for a in range(d):
+        x[a] -= phi * prm[N0 + a]
+    apply_condition(v, prm[N0:N0 + d], int(prm[HALFSPACE.condition]), prm[HALFSPACE.mu])
+
+
+class HalfSpace(GridStage, ParticleStage):
+    """Subclasses set ``self.point``, ``self.normal`` (unit) and ``self.layer`` [m] in setup, then call
+    ``self.pack_halfspace()``."""
+
+    node_rule = halfspace_node_rule
+    particle_rule = halfspace_particle_rule
+
+    def pack_halfspace(self):
+        point = np.zeros(3)
+        normal = np.zeros(3)
+        d = len(self.point)
+        point[:d], normal[:d] = self.point, self.normal
+        values = {f"point_{c}": point[k] for k, c in enumerate("xyz")}
+        values.update({f"normal_{c}": normal[k] for k, c in enumerate("xyz")})
+        values.update(condition=CONDITIONS[self.params.condition], mu=self.params.friction, layer=self.layer)
+        self.prm = pack_in_layout(HALFSPACE, values, f"stage '{self.label}'")
+
+    def grid_args(self, dt, time, remap):
+        return self.prm, NO_AUX
+
+    def particle_args(self, dt, time):
+        return self.prm, NO_AUX
