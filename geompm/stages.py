@@ -119,7 +119,7 @@ class GridStage(Stage):
         return None
 
     def grid_reduced(self, out, dt: float, time: float, remap: bool) -> None:
-        """The pass's accumulator rows (threads, node_reduction), on the host."""
+        """The pass's accumulator rows (threads, node_reduction), on the host (reused by the next pass)."""
 
 
 class ParticleStage(Stage):
@@ -147,8 +147,10 @@ class ParticleStage(Stage):
         return range(nblocks)
 
     def particle_reduced(self, out, dt: float, time: float) -> None:
-        """The pass's accumulator rows (threads, particle_reduction), on the host."""
+        """The pass's accumulator rows (threads, particle_reduction), on the host (reused by the next pass)."""
 
 
 #: the ``aux`` of a stage that has no lookup table
 NO_AUX = np.zeros(1)
+#: a node index beyond any grid (an open side of a ``node_box``)
+FAR_NODE = 1 << 40

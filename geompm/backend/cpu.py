@@ -19,7 +19,7 @@ from ..kernels.grid_update import grid_update, grid_update_folded, momentum_to_v
 from ..kernels.stencil import scheme_tag, stencil_tag
 from ..kernels.transfer2d import g2p_2d, p2g_2d
 from ..kernels.transfer3d import g2p_3d, p2g_3d
-from ..stages import GridStage, ParticleStage
+from ..stages import FAR_NODE, GridStage, ParticleStage
 from .base import Backend
 from .cpu_loops import block_loops
 from .cpu_stage_loops import merge_loop, node_loop, particle_loop
@@ -45,8 +45,9 @@ class CpuBackend(Backend):
         self.max_rate = None
         for mat in scene.materials:
             block_loops(type(mat))  # generate (or load) every law's and stage's loops before the first step
-        for stage in scene.boundaries + scene.damping + scene.obstacles:
-            self._stage_loops(type(stage))
+        self._every_node = (np.full(scene.dim, -FAR_NODE, np.int64), np.full(scene.dim, FAR_NODE, np.int64))
+        #: per stage: its loops and its accumulator and scratch rows, made once
+        self._plans = {id(s): self._plan(s) for s in scene.boundaries + scene.damping + scene.obstacles}
 
     def host_state(self):
         return self.state
@@ -109,27 +110,43 @@ class CpuBackend(Backend):
             out["particle"] = particle_loop(cls.particle_rule)
         return out
 
-    def _rows(self, width: int) -> np.ndarray:
-        return np.zeros((self.buffers.nchunks, max(width, 1)))
+    def _plan(self, stage) -> dict:
+        cls, nc, d = type(stage), self.buffers.nchunks, self.scene.dim
+        plan = self._stage_loops(cls)
+        if issubclass(cls, GridStage):
+            plan["node_out"] = np.zeros((nc, max(cls.node_reduction, 1)))
+            plan["node_work"] = np.zeros((nc, d + cls.node_scratch))
+        if issubclass(cls, ParticleStage):
+            plan["particle_out"] = np.zeros((nc, max(cls.particle_reduction, 1)))
+            plan["particle_work"] = np.zeros((nc, max(cls.particle_scratch, 1)))
+        return plan
+
+    def _plan_of(self, stage) -> dict:
+        plan = self._plans.get(id(stage))
+        if plan is None:  # a stage added after the backend was made (a probe's)
+            plan = self._plans[id(stage)] = self._plan(stage)
+        return plan
 
     def grid_stage(self, stage, view, dt: float, time: float, remap: bool) -> None:
         args = stage.grid_args(dt, time, remap)
         if args is None:
             return
-        cls = type(stage)
-        loop = self._stage_loops(cls)["grid"]
+        plan = self._plan_of(stage)
+        loop = plan["grid"]
         v_old = view.g_vel_old if view.g_vel_old is not None else view.g_vel
-        if cls.node_image is not None:
+        if type(stage).node_image is not None:
             loop(args[0], view.lo, view.nloc, view.g_mass, view.g_vel, v_old, view.g_vel_old is not None,
                  self.buffers.nchunks)
             return
         prm, aux = args
         f = view.g_force if view.g_force is not None else view.g_vel
-        b0, bn = _window_box(stage.node_box(time), view)
-        out = self._rows(cls.node_reduction)
+        box = stage.node_box(time)
+        first, last = self._every_node if box is None else box
+        out = plan["node_out"]
+        out.fill(0.0)
         g = self.scene.grid
-        loop(prm, aux, dt, g.origin, g.h, view.lo, view.nloc, b0, bn, view.g_mass, view.g_vel, v_old, f,
-             self._rows(self.scene.dim + cls.node_scratch), out)
+        loop(prm, aux, dt, g.origin, g.h, view.lo, view.nloc, first, last, view.g_mass, view.g_vel, v_old, f,
+             plan["node_work"], out)
         stage.grid_reduced(out, dt, time, remap)
 
     def particle_stage(self, stage, dt: float, time: float) -> None:
@@ -137,23 +154,13 @@ class CpuBackend(Backend):
         if args is None:
             return
         prm, aux = args
-        cls = type(stage)
-        loop = self._stage_loops(cls)["particle"]
+        plan = self._plan_of(stage)
+        loop, out, work = plan["particle"], plan["particle_out"], plan["particle_work"]
+        out.fill(0.0)
         st = self.state
-        out = self._rows(cls.particle_reduction)
-        work = self._rows(cls.particle_scratch)
         for k in stage.particle_blocks(len(st.blocks)):
             s, e = st.blocks[k]
             if e > s:
                 loop(prm, aux, dt, k, s, e, st.p_x, st.p_x0, st.p_v, st.p_C, st.p_mass, st.p_stress, work, out)
         stage.particle_reduced(out, dt, time)
 
-
-def _window_box(box, view):
-    """A stage's global node box as (first window index, extent) per axis, clipped to the window."""
-    if box is None:
-        return np.zeros_like(view.lo), view.nloc.copy()
-    first, last = box
-    b0 = np.clip(np.asarray(first, np.int64) - view.lo, 0, view.nloc)
-    b1 = np.clip(np.asarray(last, np.int64) - view.lo + 1, 0, view.nloc)
-    return b0, np.maximum(b1 - b0, 0)

@@ -1,7 +1,7 @@
 """The CPU backend's loops around a stage's per-node and per-particle functions (stages.py).
 
-    node_pass(prm, aux, dt, origin, h, lo, nloc, b0, bn, g_mass, g_vel, g_vel_old, g_force, work, out)
-        the rule on every node with mass in the window box [b0, b0 + bn) (window indices)
+    node_pass(prm, aux, dt, origin, h, lo, nloc, first, last, g_mass, g_vel, g_vel_old, g_force, work, out)
+        the rule on every node with mass whose global index lies in [first, last] (inclusive, per axis)
     merge_pass(prm, lo, nloc, g_mass, g_vel, g_vel_old, fold_old, nchunks)
         every node merged with its image: summed mass, mass-weighted velocity
     particle_pass(prm, aux, dt, k, start, end, p_x, p_x0, p_v, p_C, p_mass, p_stress, work, out)
@@ -25,10 +25,14 @@ from .codegen import loops
 
 NODE_BODY = '''
 @njit(parallel=True, cache=True)
-def node_pass(prm, aux, dt, origin, h, lo, nloc, b0, bn, g_mass, g_vel, g_vel_old, g_force, work, out):
+def node_pass(prm, aux, dt, origin, h, lo, nloc, first, last, g_mass, g_vel, g_vel_old, g_force, work, out):
     d = g_vel.shape[1]
+    b0 = np.empty(d, np.int64)  # the box [first, last] (global) as window indices [b0, b0 + bn)
+    bn = np.empty(d, np.int64)
     total = 1
     for a in range(d):
+        b0[a] = min(max(first[a] - lo[a], 0), nloc[a])
+        bn[a] = max(min(last[a] - lo[a] + 1, nloc[a]) - b0[a], 0)
         total *= bn[a]
     nc = out.shape[0]
     per = (total + nc - 1) // nc

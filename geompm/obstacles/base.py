@@ -27,8 +27,8 @@ from pydantic import Field
 
 from ..boundaries.contact import CONDITIONS
 from ..errors import CaseError
-from ..plugin import Params, vector_length_problems
 from ..layout import pack_in_layout
+from ..plugin import Params, vector_length_problems
 from ..stages import OBSTACLE as OBSTACLE_PHASE
 from ..stages import GridStage, ParticleStage
 from .contact_force import COUNT, DEPTH, FORCE_SLOTS, OBSTACLE, contact_and_record
@@ -51,31 +51,24 @@ class ObstacleParams(Params):
 @njit(cache=True, inline="always")
 def obstacle_node_rule(prm, field, dt, x, m, v, v_old, f, work, out):
     """Contact on one node; ``field`` the contact lattice (points, 1 + d); out[0:d] force on the
-    obstacle, out[d] f_n, out[d+1:2d+1] sum f_n n, out[2d+1:2d+4] moment (3 components)."""
+    obstacle, out[d] f_n, out[d+1:2d+1] sum f_n n, out[2d+1:2d+4] moment (3 components).  ``work``
+    holds, at offsets of d: the node in the obstacle's frame, the normal, two force scratch vectors,
+    the interpolation's base and fraction, and its d + 1 values (phi, grad phi)."""
     d = x.shape[0]
     hl = prm[O.spacing]
-    for a in range(d):  # nodes outside the lattice leave here, before any view is made
-        lo = prm[O.lat_x + a]
+    for a in range(d):
         xa = x[a] - prm[O.shift_x + a]
+        lo = prm[O.lat_x + a]
         if xa < lo or xa > lo + (prm[O.shape_x + a] - 1.0) * hl:
             return
-    xf = work[0:d]  # the node in the obstacle's frame
-    normal = work[d:2 * d]
-    before = work[2 * d:3 * d]
-    fo = work[3 * d:4 * d]
-    base = work[4 * d:5 * d]
-    frac = work[5 * d:6 * d]
-    val = work[6 * d:7 * d + 1]
-    shift = prm[O.shift_x:O.shift_x + d]
-    for a in range(d):
-        xf[a] = x[a] - shift[a]
-    interp_field(field, prm[O.lat_x:O.lat_x + d], 1.0 / hl, prm[O.shape_x:O.shape_x + d], xf, base, frac, val)
-    if val[0] > prm[O.layer]:
+        work[a] = xa
+    xf, nrm, bef, fo, base, frac, val = 0, d, 2 * d, 3 * d, 4 * d, 5 * d, 6 * d
+    interp_field(field, prm, O.lat_x, O.shape_x, 1.0 / hl, work, xf, base, frac, val)
+    if work[val] > prm[O.layer]:
         return
     for a in range(d):
-        normal[a] = val[1 + a]
-    contact_and_record(v, normal, prm[O.vel_x:O.vel_x + d], int(prm[O.condition]), prm[O.mu], m, 1.0 / dt, xf,
-                       shift, prm[O.moment_x:O.moment_x + d], before, fo, out)
+        work[nrm + a] = work[val + 1 + a]
+    contact_and_record(v, work, nrm, xf, bef, fo, prm, m, 1.0 / dt, out)
 
 
 GUARD_POINTS_MAX = 2e7  # lattice points of one obstacle's guard field (4 doubles each in 3D: 640 MB)

@@ -30,40 +30,47 @@ COUNT, DEPTH = FORCE_SLOTS, FORCE_SLOTS + 1  # the guard's corrections and its d
 
 
 @njit(cache=True, inline="always")
-def contact_and_record(v, normal, vel, condition, mu, m, inv_dt, x, shift, moment_point, before, f, out):
-    """Apply the rule to the velocity v (d,) with ``normal`` holding grad(phi) (normalised here, in place).
+def contact_and_record(v, w, n0, x0, b0, f0, prm, m, inv_dt, out):
+    """Apply the rule to the velocity v (d,), with w[n0:n0 + d] holding grad(phi) (normalised here, in
+    place), and record the force.
 
-    ``x`` is the point in the obstacle's frame, ``shift`` its displacement, so
-    x + shift is where the force acts.  Returns False, and changes nothing, if
-    the gradient is zero."""
+    ``w[x0:x0 + d]`` is the point in the obstacle's frame; its displacement
+    prm[shift], so x + shift is where the force acts; w[b0:...], w[f0:...] are
+    scratch.  The obstacle's velocity, moment point, condition and
+    coefficient come from ``prm`` (OBSTACLE layout); vectors are read at
+    offsets, never sliced (contact.apply_condition).  Returns False, and
+    changes nothing, if the gradient is zero."""
     d = v.shape[0]
+    vel0, shift0, mom0 = OBSTACLE.vel_x, OBSTACLE.shift_x, OBSTACLE.moment_x
     norm = 0.0
     for a in range(d):
-        norm += normal[a] * normal[a]
+        norm += w[n0 + a] * w[n0 + a]
     if norm == 0.0:
         return False
     norm = math.sqrt(norm)
     for a in range(d):
-        normal[a] /= norm
-        before[a] = v[a]
-        v[a] -= vel[a]
-    apply_condition(v, normal, condition, mu)
+        w[n0 + a] /= norm
+        w[b0 + a] = v[a]
+        v[a] -= prm[vel0 + a]
+    apply_condition(v, w, n0, int(prm[OBSTACLE.condition]), prm[OBSTACLE.mu])
     fn = 0.0
     for a in range(d):
-        v[a] += vel[a]
-        f[a] = -m * (v[a] - before[a]) * inv_dt  # force on the obstacle
-        out[a] += f[a]
-        fn -= f[a] * normal[a]  # normal points out of the obstacle: pushing in is positive
+        v[a] += prm[vel0 + a]
+        w[f0 + a] = -m * (v[a] - w[b0 + a]) * inv_dt  # force on the obstacle
+        out[a] += w[f0 + a]
+        fn -= w[f0 + a] * w[n0 + a]  # normal points out of the obstacle: pushing in is positive
     out[d] += fn
     for a in range(d):
-        out[d + 1 + a] -= fn * normal[a]
-    r0 = x[0] + shift[0] - moment_point[0]
-    r1 = x[1] + shift[1] - moment_point[1]
+        out[d + 1 + a] -= fn * w[n0 + a]
+    r0 = w[x0] + prm[shift0] - prm[mom0]
+    r1 = w[x0 + 1] + prm[shift0 + 1] - prm[mom0 + 1]
+    f_0, f_1 = w[f0], w[f0 + 1]
     if d == 3:
-        r2 = x[2] + shift[2] - moment_point[2]
-        out[2 * d + 1] += r1 * f[2] - r2 * f[1]
-        out[2 * d + 2] += r2 * f[0] - r0 * f[2]
-        out[2 * d + 3] += r0 * f[1] - r1 * f[0]
+        r2 = w[x0 + 2] + prm[shift0 + 2] - prm[mom0 + 2]
+        f_2 = w[f0 + 2]
+        out[2 * d + 1] += r1 * f_2 - r2 * f_1
+        out[2 * d + 2] += r2 * f_0 - r0 * f_2
+        out[2 * d + 3] += r0 * f_1 - r1 * f_0
     else:
-        out[2 * d + 3] += r0 * f[1] - r1 * f[0]
+        out[2 * d + 3] += r0 * f_1 - r1 * f_0
     return True

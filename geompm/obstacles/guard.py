@@ -42,18 +42,16 @@ O = OBSTACLE
 
 
 @njit(cache=True)  # a call, not inlined: five uses in guard_rule would make its loops slow to compile
-def _phi(field, prm, x, base, frac, val):
-    d = x.shape[0]
-    interp_field(field, prm[O.lat_x:O.lat_x + d], 1.0 / prm[O.spacing], prm[O.shape_x:O.shape_x + d], x, base,
-                 frac, val)
-    return val[0]
+def _phi(field, prm, w, x0, base0, frac0, val0):
+    interp_field(field, prm, O.lat_x, O.shape_x, 1.0 / prm[O.spacing], w, x0, base0, frac0, val0)
+    return w[val0]
 
 
 @njit(cache=True, inline="always")
-def _inside_lattice(x, prm):
-    for a in range(x.shape[0]):
+def _inside_lattice(w, x0, d, prm):
+    for a in range(d):
         lo = prm[O.lat_x + a]
-        if x[a] < lo or x[a] > lo + (prm[O.shape_x + a] - 1.0) * prm[O.spacing]:
+        if w[x0 + a] < lo or w[x0 + a] > lo + (prm[O.shape_x + a] - 1.0) * prm[O.spacing]:
             return False
     return True
 
@@ -62,27 +60,22 @@ def _inside_lattice(x, prm):
 def guard_rule(prm, field, dt, k, p_x, x0, p_v, C, m, s, work, out):
     """Put back the particle if it is inside or went through the obstacle; ``field`` the guard lattice
     (points, 1 + d); out as in base.obstacle_node_rule, plus out[COUNT] (corrections) and out[DEPTH]
-    (the largest depth [m] found before correction)."""
+    (the largest depth [m] found before correction).  ``work`` holds at offsets of d (read at offsets,
+    never sliced: contact.apply_condition) the end point x, the start xo, a point y on the segment, a
+    force, the normal, the interpolation's base, fraction and d + 1 values."""
     d = p_x.shape[0]
     hs = prm[O.spacing]
-    for a in range(d):  # most particles leave here, before any view is made
+    for a in range(d):  # most particles leave here
         lo = prm[O.lat_x + a]
         xa = p_x[a] - prm[O.shift_x + a]
         if xa < lo or xa > lo + (prm[O.shape_x + a] - 1.0) * hs:
             return
-    x = work[0:d]
-    xo = work[d:2 * d]
-    y = work[2 * d:3 * d]
-    f = work[3 * d:4 * d]
-    normal = work[4 * d:5 * d]
-    base = work[5 * d:6 * d]
-    frac = work[6 * d:7 * d]
-    val = work[7 * d:8 * d + 1]
-    shift = prm[O.shift_x:O.shift_x + d]
+    x, xo, y, f, nrm, base, frac, val = 0, d, 2 * d, 3 * d, 4 * d, 5 * d, 6 * d, 7 * d
+    w = work
     for a in range(d):
-        x[a] = p_x[a] - shift[a]
-        xo[a] = x[a] - dt * p_v[a]
-    phi = _phi(field, prm, x, base, frac, val)
+        w[x + a] = p_x[a] - prm[O.shift_x + a]
+        w[xo + a] = w[x + a] - dt * p_v[a]
+    phi = _phi(field, prm, w, x, base, frac, val)
     hit = False
     if phi < 0.0:
         hit = True
@@ -90,18 +83,18 @@ def guard_rule(prm, field, dt, k, p_x, x0, p_v, C, m, s, work, out):
         for _ in range(2):  # project onto phi = 0 along the gradient
             g2 = 0.0
             for a in range(d):
-                g2 += val[1 + a] * val[1 + a]
+                g2 += w[val + 1 + a] * w[val + 1 + a]
             if g2 == 0.0:
                 break
             for a in range(d):
-                x[a] -= phi * val[1 + a] / g2
-            phi = _phi(field, prm, x, base, frac, val)
-    elif _inside_lattice(xo, prm):
+                w[x + a] -= phi * w[val + 1 + a] / g2
+            phi = _phi(field, prm, w, x, base, frac, val)
+    elif _inside_lattice(w, xo, d, prm):
         seg = 0.0
         for a in range(d):
-            seg += (x[a] - xo[a]) ** 2
+            seg += (w[x + a] - w[xo + a]) ** 2
         seg = np.sqrt(seg)
-        phi0 = _phi(field, prm, xo, base, frac, val)
+        phi0 = _phi(field, prm, w, xo, base, frac, val)
         if seg > 0.0 and -hs < phi0 < seg:  # a start on the surface (phi0 ~ 0) is marched too
             t_out, t = 0.0, 0.0
             cur = max(phi0, 0.0)
@@ -109,8 +102,8 @@ def guard_rule(prm, field, dt, k, p_x, x0, p_v, C, m, s, work, out):
                 t_out = t
                 t = min(1.0, t + max(cur, MIN_STEP * hs) / seg)
                 for a in range(d):
-                    y[a] = xo[a] + t * (x[a] - xo[a])
-                cur = _phi(field, prm, y, base, frac, val)
+                    w[y + a] = w[xo + a] + t * (w[x + a] - w[xo + a])
+                cur = _phi(field, prm, w, y, base, frac, val)
                 if cur < 0.0:
                     hit = True
                     break
@@ -119,21 +112,20 @@ def guard_rule(prm, field, dt, k, p_x, x0, p_v, C, m, s, work, out):
                 for _ in range(BISECTIONS):
                     tm = 0.5 * (t_out + t_in)
                     for a in range(d):
-                        y[a] = xo[a] + tm * (x[a] - xo[a])
-                    if _phi(field, prm, y, base, frac, val) < 0.0:
+                        w[y + a] = w[xo + a] + tm * (w[x + a] - w[xo + a])
+                    if _phi(field, prm, w, y, base, frac, val) < 0.0:
                         t_in = tm
                     else:
                         t_out = tm
                 for a in range(d):
-                    x[a] = xo[a] + t_out * (x[a] - xo[a])
-                _phi(field, prm, x, base, frac, val)
+                    w[x + a] = w[xo + a] + t_out * (w[x + a] - w[xo + a])
+                _phi(field, prm, w, x, base, frac, val)
     if not hit:
         return
     for a in range(d):
-        normal[a] = val[1 + a]
-        p_x[a] = x[a] + shift[a]
-    if contact_and_record(p_v, normal, prm[O.vel_x:O.vel_x + d], int(prm[O.condition]), prm[O.mu], m, 1.0 / dt,
-                          x, shift, prm[O.moment_x:O.moment_x + d], y, f, out):
+        w[nrm + a] = w[val + 1 + a]
+        p_x[a] = w[x + a] + prm[O.shift_x + a]
+    if contact_and_record(p_v, w, nrm, x, y, f, prm, m, 1.0 / dt, out):
         out[COUNT] += 1.0
 
 

@@ -13,32 +13,36 @@ from numba import njit
 
 
 @njit(cache=True, inline="always")
-def interp_field(field, lat_origin, inv_h, shape, x, base, frac, out):
-    """Trilinear (bilinear in 2D) interpolation of a flat lattice field (points, k) at x (d,) into out (k,).
+def interp_field(field, prm, lat0, shape0, inv_h, w, x0, base0, frac0, val0):
+    """Trilinear (bilinear in 2D) interpolation of a flat lattice field (points, k) at a point.
 
-    ``lat_origin`` and ``shape`` (d,) the lattice's first point [m] and points per axis (any numeric
-    sequences: slices of a stage's packed parameters); ``base`` and ``frac`` (d,) float scratch."""
-    d = x.shape[0]
+    Every vector is read at an offset, never sliced (a slice in a per-item
+    function costs a reference count per call, contact.apply_condition): the
+    lattice's first point [m] is prm[lat0:lat0 + d], its points per axis
+    prm[shape0:shape0 + d]; the point is w[x0:x0 + d]; w[base0:base0 + d] and
+    w[frac0:frac0 + d] are scratch; the k interpolated values go to
+    w[val0:val0 + k].  d is the field's column count minus one."""
     k = field.shape[1]
+    d = k - 1
     for c in range(k):
-        out[c] = 0.0
+        w[val0 + c] = 0.0
     for a in range(d):
-        xi = (x[a] - lat_origin[a]) * inv_h
+        xi = (w[x0 + a] - prm[lat0 + a]) * inv_h
         i = int(np.floor(xi))
-        i = min(max(i, 0), int(shape[a]) - 2)
-        base[a] = i
-        frac[a] = min(max(xi - i, 0.0), 1.0)
+        i = min(max(i, 0), int(prm[shape0 + a]) - 2)
+        w[base0 + a] = i
+        w[frac0 + a] = min(max(xi - i, 0.0), 1.0)
     for corner in range(1 << d):
-        w = 1.0
+        wt = 1.0
         flat = 0
         for a in range(d):
             bit = (corner >> a) & 1
-            w *= frac[a] if bit else 1.0 - frac[a]
-            flat = flat * int(shape[a]) + int(base[a]) + bit
-        if w == 0.0:
+            wt *= w[frac0 + a] if bit else 1.0 - w[frac0 + a]
+            flat = flat * int(prm[shape0 + a]) + int(w[base0 + a]) + bit
+        if wt == 0.0:
             continue
         for c in range(k):
-            out[c] += w * field[flat, c]
+            w[val0 + c] += wt * field[flat, c]
 
 
 def sdf_lattice(sdf_fn, lo, hi, h):
