@@ -1,0 +1,118 @@
+"""What every rigid contact surface with a force history shares (obstacles, terrain).
+
+A ``ContactForceStage`` is a grid stage (contact on nodes) and a particle
+stage (a penetration guard after G2P) whose rules accumulate, through
+contact_force.contact_and_record, the momentum they remove.  This class
+packs the shared parameters (contact_force.OBSTACLE), sums the threads'
+rows into the force, its normal and tangential parts and the moment,
+keeps the peak, writes the series columns and the checkpoint state.
+
+Force on the surface = - sum over its nodes and corrected particles of
+m (v_after - v_before) / dt; f_n = sum of the per-item components along each
+item's normal (pushing into the surface is positive), f_t = |F - sum (F_i .
+n_i) n_i|, the moment about ``moment_point``.  Series columns <name>_fx,
+_fy(, _fz), _fn, _ft, _mz (2D) or _mx, _my, _mz (3D), in N (N/m in 2D plane
+strain).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..boundaries.contact import CONDITIONS
+from ..layout import pack_in_layout
+from ..stages import OBSTACLE as OBSTACLE_PHASE
+from ..stages import GridStage, ParticleStage
+from .contact_force import COUNT, DEPTH, FORCE_SLOTS, OBSTACLE
+
+
+class ContactForceStage(GridStage, ParticleStage):
+    """Subclasses call ``start_recording(scene)`` and ``set_moment_point(default)`` in setup, pack
+    their parameters with ``pack_obstacle`` and give the rules and the (prm, aux) of each pass."""
+
+    phase = OBSTACLE_PHASE
+    node_reduction = FORCE_SLOTS
+    particle_reduction = DEPTH + 1
+    #: the surface's prescribed velocity [m/s] (zeros: at rest)
+    vel: np.ndarray
+
+    def start_recording(self, scene):
+        self.dim = scene.dim
+        self.grid = scene.grid
+        self.vel = np.zeros(scene.dim)
+        self.grid_out = np.zeros(FORCE_SLOTS)  # the grid pass of this step (MUSL's second pass is not counted)
+        self.force = np.zeros(scene.dim)
+        self.peak = (0.0, 0.0)  # (|F|, time)
+        self.fn = self.ft = 0.0  # normal and tangential force magnitudes [N, N/m in 2D]
+        self.moment = np.zeros(3)
+        self.particles_put_back = 0  # by the guard, over the run
+        self.max_depth = 0.0  # deepest penetration the guard corrected [m]
+
+    def set_moment_point(self, default):
+        mp = self.params.moment_point
+        self.moment_point = np.asarray(default if mp is None else mp, float)
+
+    def pack_obstacle(self, vectors: dict, spacing: float, extra: dict | None = None, layout=OBSTACLE):
+        """The packed parameters: ``vectors`` maps lat/shape/shift/vel to (d,) values (3 slots each), the
+        moment point is added; ``extra`` holds a longer layout's own entries."""
+        d = self.dim
+        vec = {}
+        for name, value in (*vectors.items(), ("moment", self.moment_point)):
+            full = np.zeros(3)
+            full[:d] = value
+            vec.update({f"{name}_{c}": full[k] for k, c in enumerate("xyz")})
+        vec.update(spacing=spacing, layer=self.params.contact_layer, condition=CONDITIONS[self.params.condition],
+                   mu=self.params.friction, **(extra or {}))
+        return pack_in_layout(layout, vec, f"stage '{self.label}'")
+
+    def grid_reduced(self, out, dt, time, remap):
+        if not remap:  # forces are those of the first application in the step; the guard's are added
+            self.grid_out[:] = out.sum(axis=0)
+
+    def particle_reduced(self, out, dt, time):
+        d = self.dim
+        self.max_depth = max(self.max_depth, float(out[:, DEPTH].max()))
+        self.particles_put_back += int(round(out[:, COUNT].sum()))
+        total = self.grid_out + out[:, :FORCE_SLOTS].sum(axis=0)
+        self.force = total[:d].copy()
+        self.fn = total[d]
+        self.ft = float(np.linalg.norm(total[:d] - total[d + 1:2 * d + 1]))
+        self.moment = total[2 * d + 1:2 * d + 4].copy()
+        mag = float(np.linalg.norm(self.force))
+        if mag > self.peak[0]:
+            self.peak = (mag, time + dt)
+
+    def supplied_speed(self) -> float:
+        return float(np.linalg.norm(self.vel))
+
+    def peak_force(self):
+        return self.peak
+
+    def series(self):
+        names = "xyz"[: self.dim]
+        out = {f"{self.label}_f{c}": float(self.force[k]) for k, c in enumerate(names)}
+        out[f"{self.label}_fn"] = float(self.fn)
+        out[f"{self.label}_ft"] = float(self.ft)
+        for k, c in enumerate("xyz"):
+            if self.dim == 3 or c == "z":
+                out[f"{self.label}_m{c}"] = float(self.moment[k])
+        return out
+
+    def summary(self) -> str:
+        unit = "N" if self.dim == 3 else "N/m"
+        guard = (f"; {self.particles_put_back} particle corrections by the guard (deepest {self.max_depth:.3g} m "
+                 f"= {self.max_depth / self.grid.h:.2f} h before correction)" if self.particles_put_back else "")
+        return f"obstacle '{self.label}': peak force {self.peak[0]:.4g} {unit} at t = {self.peak[1]:.4g} s{guard}"
+
+    def state_dict(self) -> dict:
+        return {"peak": list(self.peak), "force": self.force.tolist(), "fn": float(self.fn), "ft": float(self.ft),
+                "moment": np.asarray(self.moment).tolist(),
+                "particles_put_back": self.particles_put_back, "max_depth": self.max_depth}
+
+    def load_state(self, state: dict) -> None:
+        self.peak = tuple(state["peak"])
+        self.force = np.asarray(state["force"], float)
+        self.fn, self.ft = state["fn"], state["ft"]
+        self.moment = np.asarray(state["moment"], float)
+        self.particles_put_back = int(state.get("particles_put_back", 0))
+        self.max_depth = float(state.get("max_depth", 0.0))

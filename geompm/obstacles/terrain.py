@@ -1,0 +1,205 @@
+"""Terrain from a DEM (GeoTIFF or ESRI ASCII grid): rigid ground with Coulomb friction and a force history, 3D.
+
+The ground is the solid below the height field z = H(x, y), H bilinear
+between the DEM's pixel centres (dem.py), in the case's frame: the DEM's map
+coordinates [m].  Contact is the rule every rigid surface uses
+(boundaries/contact.py: ``friction`` by default, ``slip``, ``fixed``) on the
+nodes whose signed distance phi <= ``contact_layer``, and after G2P a
+particle below the surface is put back on it (phi exact to the method below,
+so none is deeper than its error); the momentum both remove is the terrain's
+force history, as for an obstacle (recorded.py).
+
+Signed distance from the height field (``terrain_phi``): start from the
+point's vertical foot q = (x, y); take the tangent plane of the surface at
+(q, H(q)), with unit normal n = (-H_x, -H_y, 1) / sqrt(1 + H_x^2 + H_y^2); the
+point's distance to that plane is phi = (p - (q, H(q))) . n, and the plane's
+closest point gives the next foot, q <- (p - phi n)_xy.  Three such steps.
+On a plane the first is exact; on a curved surface the foot converges to
+the closest point (the normal of the closest point passes through p).
+tests/test_terrain.py measures it against the exact distance to a
+paraboloid.  A point above the surface (z > H(x, y)) is outside, one below
+inside, exactly.  The vertical gap g = z - H(x, y) bounds the distance,
+phi >= g cos(theta_max) (theta_max the steepest DEM slope), which lets most
+nodes leave after one height lookup.
+
+Outside the DEM (or its ``clip``) the edge heights continue; the DEM must
+cover the grid's horizontal extent (or the clip).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+import numpy as np
+from numba import njit
+from pydantic import Field
+
+from ..errors import CaseError
+from ..fileio import case_relative, unreadable_file
+from ..layout import param_layout
+from ..plugin import Params
+from ..stages import FAR_NODE
+from .contact_force import COUNT, DEPTH, OBSTACLE, contact_and_record
+from .dem import read_dem
+from .recorded import ContactForceStage
+
+#: the obstacle slots (contact_force.OBSTACLE) and the DEM's lattice: first pixel centre [m], pixel size [m],
+#: pixels per axis, the cosine of its steepest slope
+TERRAIN = param_layout(OBSTACLE, "dem_x0", "dem_y0", "dem_dx", "dem_dy", "dem_nx", "dem_ny", "cos_steepest")
+T = TERRAIN
+O_LAYER = OBSTACLE.layer
+PROJECTIONS = 3  # tangent-plane steps of the signed distance
+
+
+class TerrainParams(Params):
+    dem: str = Field(description="DEM file relative to the case file (GeoTIFF, ESRI ASCII grid), heights [m]")
+    clip: list[list[float]] | None = Field(
+        None, description="[[xmin, ymin], [xmax, ymax]] in map coordinates [m]: use only this part of the DEM")
+    condition: Literal["slip", "fixed", "friction"] = Field("friction", description="Contact condition")
+    friction: float = Field(0.0, ge=0.0, description="Coulomb coefficient mu [-] (condition 'friction')")
+    contact_layer: float = Field(
+        0.0, ge=0.0, description="Nodes with signed distance <= this [m] are in contact (0: on or below)")
+    moment_point: list[float] | None = Field(None, description="Reference point of the moment [m]; default the "
+                                                               "centre of the DEM region at its mean height")
+
+
+@njit(cache=True, inline="always")
+def _height(z, prm, x, y):
+    """Bilinear height [m] at (x, y), edge heights continued beyond the DEM."""
+    nx, ny = int(prm[T.dem_nx]), int(prm[T.dem_ny])
+    fx = (x - prm[T.dem_x0]) / prm[T.dem_dx]
+    fy = (y - prm[T.dem_y0]) / prm[T.dem_dy]
+    i = min(max(int(math.floor(fx)), 0), nx - 2)
+    j = min(max(int(math.floor(fy)), 0), ny - 2)
+    tx = min(max(fx - i, 0.0), 1.0)
+    ty = min(max(fy - j, 0.0), 1.0)
+    return ((1 - tx) * (1 - ty) * z[i, j] + tx * (1 - ty) * z[i + 1, j] + (1 - tx) * ty * z[i, j + 1]
+            + tx * ty * z[i + 1, j + 1])
+
+
+@njit(cache=True)  # a call: used by both rules, kept out of their loops' inlined bodies
+def terrain_phi(z, prm, px, py, pz, w, n0):
+    """Signed distance [m] of (px, py, pz) to the surface (positive above); its unit normal goes to
+    w[n0:n0 + 3]."""
+    nx, ny = int(prm[T.dem_nx]), int(prm[T.dem_ny])
+    dx, dy = prm[T.dem_dx], prm[T.dem_dy]
+    qx, qy = px, py
+    phi = 0.0
+    for _ in range(PROJECTIONS):
+        fx = (qx - prm[T.dem_x0]) / dx
+        fy = (qy - prm[T.dem_y0]) / dy
+        i = min(max(int(math.floor(fx)), 0), nx - 2)
+        j = min(max(int(math.floor(fy)), 0), ny - 2)
+        tx = min(max(fx - i, 0.0), 1.0)
+        ty = min(max(fy - j, 0.0), 1.0)
+        z00, z10, z01, z11 = z[i, j], z[i + 1, j], z[i, j + 1], z[i + 1, j + 1]
+        hq = (1 - tx) * (1 - ty) * z00 + tx * (1 - ty) * z10 + (1 - tx) * ty * z01 + tx * ty * z11
+        hx = ((1 - ty) * (z10 - z00) + ty * (z11 - z01)) / dx
+        hy = ((1 - tx) * (z01 - z00) + tx * (z11 - z10)) / dy
+        s = math.sqrt(1.0 + hx * hx + hy * hy)
+        n_x, n_y, n_z = -hx / s, -hy / s, 1.0 / s
+        phi = (px - qx) * n_x + (py - qy) * n_y + (pz - hq) * n_z
+        w[n0], w[n0 + 1], w[n0 + 2] = n_x, n_y, n_z
+        qx, qy = px - phi * n_x, py - phi * n_y
+    return phi
+
+
+@njit(cache=True, inline="always")
+def terrain_node_rule(prm, z, dt, x, m, v, v_old, f, work, out):
+    """Contact on one node; work: the node (0:3), the normal (3:6), two force scratch vectors (6:12)."""
+    gap = x[2] - _height(z, prm, x[0], x[1])
+    if gap * prm[T.cos_steepest] > prm[O_LAYER]:
+        return  # phi >= gap cos(theta_max): not in contact
+    phi = terrain_phi(z, prm, x[0], x[1], x[2], work, 3)
+    if phi > prm[O_LAYER]:
+        return
+    for a in range(3):
+        work[a] = x[a]
+    contact_and_record(v, work, 3, 0, 6, 9, prm, m, 1.0 / dt, out)
+
+
+@njit(cache=True, inline="always")
+def terrain_guard_rule(prm, z, dt, k, x, x0, v, C, m, s, work, out):
+    """A particle below the surface is put back on it (two projections along the normal) and gets the
+    contact rule; its correction goes to the force (out[COUNT], out[DEPTH] as for obstacles)."""
+    if x[2] >= _height(z, prm, x[0], x[1]):
+        return  # above the height field: outside the ground, exactly
+    phi = terrain_phi(z, prm, x[0], x[1], x[2], work, 3)
+    out[DEPTH] = max(out[DEPTH], -phi)
+    for _ in range(2):
+        for a in range(3):
+            x[a] -= phi * work[3 + a]
+        phi = terrain_phi(z, prm, x[0], x[1], x[2], work, 3)
+        if phi >= 0.0:
+            break
+    for a in range(3):
+        work[a] = x[a]
+    if contact_and_record(v, work, 3, 0, 6, 9, prm, m, 1.0 / dt, out):
+        out[COUNT] += 1.0
+
+
+
+class Terrain(ContactForceStage):
+    name = "terrain"
+    description = "Rigid terrain from a DEM (GeoTIFF / ESRI ASCII grid): Coulomb friction, force history (3D)"
+    Params = TerrainParams
+    node_rule = terrain_node_rule
+    node_scratch = 12
+    particle_rule = terrain_guard_rule
+    particle_scratch = 12
+
+    @classmethod
+    def check(cls, params, case):
+        if case.dimension != 3:
+            return [("type", "a terrain needs a 3D case (a DEM is a surface z = H(x, y))")]
+        if params.clip is not None and (len(params.clip) != 2 or any(len(c) != 2 for c in params.clip)
+                                        or any(a >= b for a, b in zip(*params.clip))):
+            return [("clip", "must be [[xmin, ymin], [xmax, ymax]] with xmin < xmax and ymin < ymax")]
+        if params.moment_point is not None and len(params.moment_point) != 3:
+            return [("moment_point", "must have 3 entries")]
+        return []
+
+    def setup(self, scene):
+        self.start_recording(scene)
+        g = scene.grid
+        where = f"{self.json_path}.dem"
+        path = case_relative(scene.base_dir, self.params.dem)
+        problem = unreadable_file(path, self.params.dem)
+        if problem:
+            raise CaseError([(where, f"DEM {problem}")])
+        lo, hi = g.origin[:2], g.upper[:2]
+        if self.params.clip is not None:
+            lo, hi = np.maximum(lo, self.params.clip[0]), np.minimum(hi, self.params.clip[1])
+        dem = read_dem(path, where, (lo, hi))
+        if dem.x0 > lo[0] or dem.y0 > lo[1] or dem.upper[0] < hi[0] or dem.upper[1] < hi[1]:
+            raise CaseError([(where, f"the DEM covers x {dem.x0:.6g}..{dem.upper[0]:.6g}, y {dem.y0:.6g}.."
+                                     f"{dem.upper[1]:.6g} m (pixel centres) but the grid (or clip) needs x "
+                                     f"{lo[0]:.6g}..{hi[0]:.6g}, y {lo[1]:.6g}..{hi[1]:.6g} m: enlarge the DEM or "
+                                     "set 'clip'")])
+        self.dem = dem
+        zx = np.diff(dem.z, axis=0) / dem.dx
+        zy = np.diff(dem.z, axis=1) / dem.dy
+        steepest = float(max(np.abs(zx).max(initial=0.0), np.abs(zy).max(initial=0.0)))
+        cos_steepest = 1.0 / math.sqrt(1.0 + 2.0 * steepest ** 2)  # |grad H| <= sqrt(2) max(|H_x|, |H_y|)
+        centre = np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, float(dem.z.mean())])
+        self.set_moment_point(centre)
+        extra = {"dem_x0": dem.x0, "dem_y0": dem.y0, "dem_dx": dem.dx, "dem_dy": dem.dy,
+                 "dem_nx": dem.z.shape[0], "dem_ny": dem.z.shape[1], "cos_steepest": cos_steepest}
+        self.prm = self.pack_obstacle({"lat": np.zeros(3), "shape": np.zeros(3), "shift": np.zeros(3),
+                                       "vel": np.zeros(3)}, g.h, extra, TERRAIN)
+        top = float(dem.z.max()) + self.params.contact_layer
+        self.box = (np.full(3, -FAR_NODE, np.int64), np.full(3, FAR_NODE, np.int64))
+        self.box[1][2] = int(math.floor((top - g.origin[2]) / g.h)) + 1  # no node above the highest ground
+
+    def grid_args(self, dt, time, remap):
+        return self.prm, self.dem.z
+
+    def node_box(self, time):
+        return self.box
+
+    def particle_args(self, dt, time):
+        return self.prm, self.dem.z
+
+    def summary(self) -> str:
+        return super().summary().replace("obstacle '", "terrain '", 1)

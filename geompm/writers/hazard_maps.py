@@ -1,0 +1,201 @@
+"""Hazard maps on the DEM's raster, written as GeoTIFF with the DEM's CRS and transform (3D cases).
+
+Every step (whatever the output's ``interval``) the particles are binned by
+their (x, y) into the DEM's pixels (the terrain obstacle's DEM, or the file
+``dem`` names; ``coarsen`` merges k x k pixels), and per pixel of area A:
+
+    flow depth      h = sum V_p / A                  [m]   (the particles' current volumes: the
+                                                            vertical thickness of the material over
+                                                            the pixel, however the column is packed)
+    speed           |u|, u = sum m_p v_p / sum m_p   [m/s] (the column's mass-weighted velocity)
+    pressure        rho u^2, rho = sum m_p / sum V_p [Pa]  (dynamic pressure of the column)
+    kinetic energy  sum m_p |v_p|^2 / (2 A)          [J/m2]
+
+The maps kept are the maxima over the run of each (``depth_max``,
+``speed_max``, ``pressure_max``, ``energy_max``), the first time the depth
+reached ``depth_threshold`` (``arrival``, NoData where it never did), the
+depth at the end (``deposit``) and at the start (``source``); the names
+follow practice (r.avaflow's hflow_max, vflow_max, pflow_max, treach,
+hflow_dep).  The speed, pressure and energy maxima count only columns at
+least ``depth_threshold`` deep (a lone particle's speed is not a flow's).
+Particles outside the raster are counted in ``volume_outside_m3`` of
+``maps/summary.json``, with the impact area (cells that reached the threshold),
+the source and deposit volumes and the peak pressure and speed.  Files: ``maps/<name>.tif`` (float64, NoData -9999), written at
+the end and at every checkpoint, each atomically; the accumulated state at a
+checkpoint goes to ``maps/state.npz`` so a resumed run carries on.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+from numba import njit
+from pydantic import Field
+
+from ..errors import CaseError
+from ..fileio import atomic_path, case_relative, atomic_write_text
+from ..plugin import Params
+from .base import Writer
+
+NODATA = -9999.0
+MAPS = ("depth_max", "speed_max", "pressure_max", "energy_max", "arrival", "deposit", "source")
+
+
+class HazardMapParams(Params):
+    dem: str | None = Field(None, description="Raster whose pixels the maps use (GeoTIFF / ESRI ASCII, relative to "
+                                              "the case file); default the terrain obstacle's DEM")
+    coarsen: int = Field(1, ge=1, description="Merge k x k pixels of the raster into one map cell")
+    depth_threshold: float = Field(0.01, gt=0, description="Depth [m] that counts as flow (arrival, maxima)")
+
+
+@njit(cache=True)
+def column_sums(p_x, p_v, p_mass, p_vol, x0, y0, cx, cy, nx, ny, out):
+    """Per map cell: out[i, j] = (sum V, sum m, sum m v_x, sum m v_y, sum m v_z, sum m |v|^2); cells of
+    size cx x cy [m] from the corner (x0, y0).  Returns the volume outside the map."""
+    out[:] = 0.0
+    outside = 0.0
+    for p in range(p_x.shape[0]):
+        i = int(np.floor((p_x[p, 0] - x0) / cx))
+        j = int(np.floor((p_x[p, 1] - y0) / cy))
+        if i < 0 or j < 0 or i >= nx or j >= ny:
+            outside += p_vol[p]
+            continue
+        m = p_mass[p]
+        out[i, j, 0] += p_vol[p]
+        out[i, j, 1] += m
+        v2 = 0.0
+        for a in range(3):
+            out[i, j, 2 + a] += m * p_v[p, a]
+            v2 += p_v[p, a] * p_v[p, a]
+        out[i, j, 5] += m * v2
+    return outside
+
+
+@njit(cache=True)
+def accumulate(sums, area, threshold, time, depth, depth_max, speed_max, pressure_max, energy_max, arrival):
+    nx, ny = depth.shape
+    for i in range(nx):
+        for j in range(ny):
+            vol, m = sums[i, j, 0], sums[i, j, 1]
+            h = vol / area
+            depth[i, j] = h
+            if h > depth_max[i, j]:
+                depth_max[i, j] = h
+            if h < threshold or m <= 0.0:
+                continue
+            if arrival[i, j] < 0.0:
+                arrival[i, j] = time
+            u2 = (sums[i, j, 2] ** 2 + sums[i, j, 3] ** 2 + sums[i, j, 4] ** 2) / (m * m)
+            speed_max[i, j] = max(speed_max[i, j], np.sqrt(u2))
+            pressure_max[i, j] = max(pressure_max[i, j], m / vol * u2)
+            energy_max[i, j] = max(energy_max[i, j], 0.5 * sums[i, j, 5] / area)
+
+
+class HazardMapWriter(Writer):
+    name = "hazard_maps"
+    description = "GeoTIFF hazard maps on the DEM: max depth, speed, pressure, energy, arrival time, deposit (3D)"
+    Params = HazardMapParams
+
+    def __init__(self, params, interval: float):
+        super().__init__(params, 0.0)  # accumulated every step, whatever the output interval
+
+    @classmethod
+    def check(cls, params, case):
+        if case.dimension != 3:
+            return [("writer", "hazard maps need a 3D case (maps of a surface z = H(x, y))")]
+        return []
+
+    def _raster(self, sim):
+        from ..obstacles.dem import read_dem
+        from ..obstacles.terrain import Terrain
+
+        if self.params.dem is not None:
+            return read_dem(case_relative(sim.scene.base_dir, self.params.dem), "outputs: hazard_maps.dem")
+        for ob in sim.scene.obstacles:
+            if isinstance(ob, Terrain):
+                return read_dem(case_relative(sim.scene.base_dir, ob.params.dem), f"{ob.json_path}.dem")
+        raise CaseError([("outputs", "hazard_maps needs a raster: add a terrain obstacle or give 'dem'")])
+
+    def open(self, run_dir: Path, sim) -> None:
+        dem = self._raster(sim)
+        k = self.params.coarsen
+        nx, ny = dem.z.shape[0] // k, dem.z.shape[1] // k
+        if nx < 1 or ny < 1:
+            raise CaseError([("outputs", f"hazard_maps.coarsen = {k} leaves no map cell on a "
+                                         f"{dem.z.shape[0]} x {dem.z.shape[1]} raster")])
+        self.crs = dem.crs
+        self.cx, self.cy = dem.dx * k, dem.dy * k
+        self.x0, self.y0 = dem.x0 - dem.dx / 2, dem.y0 - dem.dy / 2  # the raster's corner (pixel edges)
+        self.area = self.cx * self.cy
+        self.folder = Path(run_dir) / "maps"
+        self.folder.mkdir(exist_ok=True)
+        self.sums = np.zeros((nx, ny, 6))
+        self.depth = np.zeros((nx, ny))
+        self.maps = {name: np.zeros((nx, ny)) for name in MAPS}
+        self.maps["arrival"][:] = -1.0
+        self.started = False
+        self.volume_outside = 0.0
+
+    def write(self, sim) -> None:
+        st = sim.state
+        nx, ny = self.depth.shape
+        self.volume_outside = column_sums(st.p_x, st.p_v, st.p_mass, st.p_vol, self.x0, self.y0, self.cx, self.cy,
+                                          nx, ny, self.sums)
+        m = self.maps
+        accumulate(self.sums, self.area, self.params.depth_threshold, sim.time, self.depth, m["depth_max"],
+                   m["speed_max"], m["pressure_max"], m["energy_max"], m["arrival"])
+        if not self.started:
+            m["source"][:] = self.depth
+            self.started = True
+        m["deposit"][:] = self.depth
+
+    def _geotiffs(self):
+        import rasterio
+        from rasterio.transform import Affine
+
+        nx, ny = self.depth.shape
+        transform = Affine(self.cx, 0.0, self.x0, 0.0, -self.cy, self.y0 + ny * self.cy)  # north-up
+        for name, grid in self.maps.items():
+            data = grid.copy()
+            if name == "arrival":
+                data[data < 0.0] = NODATA
+            band = data.T[::-1]  # rows from north to south
+            with atomic_path(self.folder / f"{name}.tif") as tmp:
+                with rasterio.open(tmp, "w", driver="GTiff", height=ny, width=nx, count=1, dtype="float64",
+                                   crs=self.crs, transform=transform, nodata=NODATA) as dst:
+                    dst.write(band, 1)
+                    dst.update_tags(1, quantity=name, units=UNITS[name])
+
+    def close(self, sim) -> None:
+        self._geotiffs()
+        m = self.maps
+        flowed = m["depth_max"] >= self.params.depth_threshold
+        reached = m["arrival"] >= 0.0
+        summary = {"impact_area_m2": float(flowed.sum() * self.area),
+                   "deposit_volume_m3": float(m["deposit"].sum() * self.area),
+                   "source_volume_m3": float(m["source"].sum() * self.area),
+                   "volume_outside_m3": float(self.volume_outside),
+                   "last_arrival_s": float(m["arrival"][reached].max()) if reached.any() else None,
+                   "peak_pressure_Pa": float(m["pressure_max"].max()), "peak_speed_m_s": float(m["speed_max"].max()),
+                   "crs": self.crs}
+        atomic_write_text(self.folder / "summary.json", json.dumps(summary, indent=1) + "\n")
+
+    def state(self) -> dict:
+        self._geotiffs()
+        with atomic_path(self.folder / "state.npz") as tmp:
+            with open(tmp, "wb") as fh:
+                np.savez(fh, **self.maps)
+        return {"started": self.started}
+
+    def resume(self, run_dir: Path, sim, state: dict) -> None:
+        self.open(run_dir, sim)
+        saved = np.load(self.folder / "state.npz")
+        for name in MAPS:
+            self.maps[name][:] = saved[name]
+        self.started = bool(state.get("started", True))
+
+
+UNITS = {"depth_max": "m", "speed_max": "m/s", "pressure_max": "Pa", "energy_max": "J/m2", "arrival": "s",
+         "deposit": "m", "source": "m"}
