@@ -48,6 +48,7 @@ class Scene:
     obstacles: list = field(default_factory=list)
     damping: list = field(default_factory=list)
     writers: list = field(default_factory=list)
+    crs: str | None = None  # the case's coordinate reference system ("EPSG:2056"), if it states one
     case_text: str = ""  # the case as JSON, for provenance only (the HDF5 file's attribute); never parsed
 
 
@@ -191,7 +192,7 @@ def assemble(loaded: LoadedCase) -> Scene:
         musl=case.solver.update == "musl",
         apic_dinv=(1.0 / (APIC_D_FACTOR[kind] * h * h)) if APIC_D_FACTOR[kind] > 0 else 0.0,
         nu_max=max((m.kinematic_viscosity() for m in materials), default=0.0),
-        case_text=json.dumps(loaded.raw),
+        case_text=json.dumps(loaded.raw), crs=case.crs,
         base_dir=loaded.base_dir,
     )
     for attr in ("boundaries", "obstacles", "damping"):

@@ -8,8 +8,9 @@
   37 deg about the vertical, so that the DEM's axes and the slope do not line up.
 - The terrain's force history: its time-mean normal force once the block has landed is the weight's
   component normal to the slope, F_n = M g cos theta, within 3 %; no particle ends a step deeper than h / 4.
-- Bad input: a missing DEM, NoData inside the grid, a DEM that does not cover the grid, a 2D case:
-  refused with the JSON path (and the NoData cell's map coordinates).
+- Bad input: a missing DEM, NoData inside the grid, a DEM that does not cover the grid, a DEM in
+  another CRS than the case's ``crs``, a 2D case: refused with the JSON path (and the NoData cell's map
+  coordinates).
 """
 
 import math
@@ -168,6 +169,15 @@ def test_dem_problems_are_refused_with_the_json_path(tmp_path):
     case["obstacles"][0]["dem"] = "small.tif"
     with pytest.raises(CaseError, match=r"obstacles\.0\.dem.*does not reach|obstacles\.0\.dem.*covers"):
         scene_from_dict(case, base_dir=tmp_path)
+    case["obstacles"][0]["dem"] = "slope.tif"  # written by _block_case, in EPSG:2056
+    case["crs"] = "EPSG:32632"  # UTM 32N
+    with pytest.raises(CaseError, match=r"obstacles\.0\.dem.*EPSG:2056.*EPSG:32632.*gdalwarp"):
+        scene_from_dict(case, base_dir=tmp_path)
+    case["crs"] = "EPSG:99999999"
+    with pytest.raises(CaseError, match=r"crs.*not a coordinate reference system"):
+        scene_from_dict(case, base_dir=tmp_path)
+    case["crs"] = "EPSG:2056"
+    scene_from_dict(case, base_dir=tmp_path)  # the same CRS: accepted
     flat = {"name": "t2", "dimension": 2, "grid": {"origin": [0.0, 0.0], "extent": [1.0, 1.0], "cell_size": 0.1},
             "time": {"end": 0.1}, "gravity": [0.0, -G], "materials": case["materials"],
             "bodies": [{"material": "block", "geometry": {"type": "box", "min": [0.2, 0.2], "max": [0.4, 0.4]}}],

@@ -177,6 +177,9 @@ class Terrain(ContactForceStage):
                                      f"{dem.upper[1]:.6g} m (pixel centres) but the grid (or clip) needs x "
                                      f"{lo[0]:.6g}..{hi[0]:.6g}, y {lo[1]:.6g}..{hi[1]:.6g} m: enlarge the DEM or "
                                      "set 'clip'")])
+        same = _same_crs(scene.crs, dem.crs)
+        if same is not None:
+            raise CaseError([(where, same)])
         self.dem = dem
         zx = np.diff(dem.z, axis=0) / dem.dx
         zy = np.diff(dem.z, axis=1) / dem.dy
@@ -203,3 +206,22 @@ class Terrain(ContactForceStage):
 
     def summary(self) -> str:
         return super().summary().replace("obstacle '", "terrain '", 1)
+
+
+def _same_crs(case_crs, dem_crs):
+    """Why the DEM's CRS does not match the case's, or None (also None when the case states none)."""
+    if case_crs is None:
+        return None
+    from rasterio.crs import CRS
+    from rasterio.errors import CRSError
+
+    try:
+        want = CRS.from_user_input(case_crs)
+    except CRSError as exc:
+        return f"the case's crs '{case_crs}' is not a coordinate reference system GDAL knows ({exc})"
+    if dem_crs is None:
+        return f"the DEM has no CRS but the case is in {case_crs}: assign it (gdal_edit.py -a_srs {case_crs})"
+    if CRS.from_user_input(dem_crs) != want:
+        return (f"the DEM is in {dem_crs} but the case is in {case_crs}: reproject the DEM "
+                f"(gdalwarp -t_srs {case_crs}) or change 'crs'")
+    return None

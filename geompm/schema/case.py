@@ -193,6 +193,9 @@ class Case(Strict):
     grid: GridSpec
     time: TimeSpec
     gravity: Vector = Field(description="Body acceleration [m/s2], one entry per dimension")
+    crs: str | None = Field(None, description="Coordinate reference system of every coordinate in the case "
+                                              "(e.g. 'EPSG:2056'): geometry in map coordinates [m]; a DEM in another "
+                                              "CRS is refused")
     solver: SolverSpec = Field(default_factory=SolverSpec)
     materials: dict[str, MaterialSpec] = Field(min_length=1)
     bodies: list[BodySpec] = Field(min_length=1)
@@ -201,3 +204,17 @@ class Case(Strict):
     damping: list[DampingSpec] = Field(default_factory=list)
     outputs: list[OutputSpec] = Field(default_factory=list)
     run: RunSpec = Field(default_factory=RunSpec)
+
+    @field_validator("crs")
+    @classmethod
+    def _known_crs(cls, v):
+        if v is None:
+            return v
+        from rasterio.crs import CRS
+        from rasterio.errors import CRSError
+
+        try:
+            CRS.from_user_input(v)
+        except CRSError:
+            raise ValueError(f"'{v}' is not a coordinate reference system GDAL knows; give e.g. 'EPSG:2056'") from None
+        return v
