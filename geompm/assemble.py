@@ -141,7 +141,8 @@ def assemble(loaded: LoadedCase) -> Scene:
         mid = names.index(body.material)
         mat = materials[mid]
         ppc = body.particles_per_cell
-        pts, contains = seed_body(body.geometry, dim, origin, h, ppc, loaded.base_dir, f"bodies.{b}.geometry")
+        pts, contains = seed_body(body.geometry, dim, origin, h, ppc, loaded.base_dir, f"bodies.{b}.geometry",
+                                  grid.upper)
         tests.append(contains)
         vol = (h / ppc) ** dim
         xs.append(pts)

@@ -15,6 +15,9 @@ import numpy as np
 from .errors import CaseError
 from .fileio import case_relative
 
+#: body geometries built from GIS files (release.py)
+RELEASE_TYPES = ("release_polygon", "release_raster", "between_surfaces")
+
 
 def lattice(lo, hi, origin, h, ppc) -> np.ndarray:
     """Sub-cell centres of the cells overlapping the box [lo, hi] (m, d)."""
@@ -74,14 +77,21 @@ def body_region(geom, dim, base_dir: Path, json_path: str):
         z0, z1 = geom.extrude
         return (np.r_[lo, z0], np.r_[hi, z1],
                 lambda pts: points_in_polygon(pts[:, :2], verts) & (pts[:, 2] > z0) & (pts[:, 2] < z1))
+    if geom.type in RELEASE_TYPES:
+        from .release import release_region
+
+        return release_region(geom, base_dir, json_path)
     mesh = load_surface_mesh(case_relative(base_dir, geom.file), geom.scale, geom.translate, json_path + ".file")
     lo, hi = mesh.bounds
     return lo, hi, mesh.contains
 
 
-def seed_body(geom, dim, origin, h, ppc, base_dir: Path, json_path: str):
-    """Particle positions (m, dim) of one body's geometry and its membership test."""
+def seed_body(geom, dim, origin, h, ppc, base_dir: Path, json_path: str, upper=None):
+    """Particle positions (m, dim) of one body's geometry and its membership test; with ``upper`` (the
+    grid's upper corner) the seeding box is clipped to the grid."""
     lo, hi, contains = body_region(geom, dim, base_dir, json_path)
+    if upper is not None:
+        lo, hi = np.maximum(lo, origin), np.minimum(hi, upper)
     pts = lattice(lo, hi, origin, h, ppc)
     if geom.type != "box":
         pts = pts[contains(pts)]

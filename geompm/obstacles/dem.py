@@ -11,11 +11,35 @@ refused with the JSON path and the cell's map coordinates.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from ..errors import CaseError
+
+
+@njit(cache=True, inline="always")
+def bilinear(z, x0, y0, dx, dy, x, y):
+    """Height [m] at (x, y) between the pixel centres of z (nx, ny), the edge heights continued beyond."""
+    nx, ny = z.shape
+    fx = (x - x0) / dx
+    fy = (y - y0) / dy
+    i = min(max(int(math.floor(fx)), 0), nx - 2)
+    j = min(max(int(math.floor(fy)), 0), ny - 2)
+    tx = min(max(fx - i, 0.0), 1.0)
+    ty = min(max(fy - j, 0.0), 1.0)
+    return ((1 - tx) * (1 - ty) * z[i, j] + tx * (1 - ty) * z[i + 1, j] + (1 - tx) * ty * z[i, j + 1]
+            + tx * ty * z[i + 1, j + 1])
+
+
+@njit(cache=True)
+def heights(z, x0, y0, dx, dy, xs, ys):
+    out = np.empty(xs.shape[0])
+    for p in range(xs.shape[0]):
+        out[p] = bilinear(z, x0, y0, dx, dy, xs[p], ys[p])
+    return out
 
 
 @dataclass
@@ -32,10 +56,16 @@ class Dem:
     def upper(self) -> tuple[float, float]:
         return self.x0 + (self.z.shape[0] - 1) * self.dx, self.y0 + (self.z.shape[1] - 1) * self.dy
 
+    def height(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """Bilinear heights [m] at points (x, y), as the terrain uses them."""
+        return heights(self.z, self.x0, self.y0, self.dx, self.dy, np.ascontiguousarray(x, float),
+                       np.ascontiguousarray(y, float))
 
-def read_dem(path, where: str, region=None) -> Dem:
+
+def read_dem(path, where: str, region=None, nodata_as: float | None = None) -> Dem:
     """The DEM of ``path``, cropped to the pixels whose centres lie in ``region`` ((xmin, ymin),
-    (xmax, ymax)) plus one pixel; CaseError at ``where`` for a rotated raster or NoData in the crop."""
+    (xmax, ymax)) plus one pixel; CaseError at ``where`` for a rotated raster or NoData in the crop
+    (unless ``nodata_as`` gives the value NoData cells take, e.g. 0 for a thickness raster)."""
     import rasterio
 
     try:
@@ -69,6 +99,8 @@ def read_dem(path, where: str, region=None) -> Dem:
                                      f"{ys.max():.6g} m, which does not reach the region x {xmin:.6g}..{xmax:.6g}, "
                                      f"y {ymin:.6g}..{ymax:.6g} m")])
         xs, ys, z = xs[ix[0]:ix[-1] + 1], ys[iy[0]:iy[-1] + 1], z[ix[0]:ix[-1] + 1, iy[0]:iy[-1] + 1]
+    if nodata_as is not None:
+        z = np.where(np.isfinite(z), z, nodata_as)
     bad = np.argwhere(~np.isfinite(z))
     if len(bad):
         i, j = bad[0]

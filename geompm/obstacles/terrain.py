@@ -41,7 +41,7 @@ from ..layout import param_layout
 from ..plugin import Params
 from ..stages import FAR_NODE
 from .contact_force import COUNT, DEPTH, OBSTACLE, contact_and_record
-from .dem import read_dem
+from .dem import bilinear, read_dem
 from .recorded import ContactForceStage
 
 #: the obstacle slots (contact_force.OBSTACLE) and the DEM's lattice: first pixel centre [m], pixel size [m],
@@ -66,16 +66,7 @@ class TerrainParams(Params):
 
 @njit(cache=True, inline="always")
 def _height(z, prm, x, y):
-    """Bilinear height [m] at (x, y), edge heights continued beyond the DEM."""
-    nx, ny = int(prm[T.dem_nx]), int(prm[T.dem_ny])
-    fx = (x - prm[T.dem_x0]) / prm[T.dem_dx]
-    fy = (y - prm[T.dem_y0]) / prm[T.dem_dy]
-    i = min(max(int(math.floor(fx)), 0), nx - 2)
-    j = min(max(int(math.floor(fy)), 0), ny - 2)
-    tx = min(max(fx - i, 0.0), 1.0)
-    ty = min(max(fy - j, 0.0), 1.0)
-    return ((1 - tx) * (1 - ty) * z[i, j] + tx * (1 - ty) * z[i + 1, j] + (1 - tx) * ty * z[i, j + 1]
-            + tx * ty * z[i + 1, j + 1])
+    return bilinear(z, prm[T.dem_x0], prm[T.dem_y0], prm[T.dem_dx], prm[T.dem_dy], x, y)
 
 
 @njit(cache=True)  # a call: used by both rules, kept out of their loops' inlined bodies

@@ -149,7 +149,36 @@ class StlGeometry(Strict):
     translate: Vector = Field(default_factory=lambda: [0.0, 0.0, 0.0], description="Offset after scaling [m]")
 
 
-Geometry = Annotated[Union[BoxGeometry, PolygonGeometry, StlGeometry], Field(discriminator="type")]
+class ReleasePolygonGeometry(Strict):
+    """A mapped release area: the ground's DEM surface filled upward by a vertical thickness (3D)."""
+
+    type: Literal["release_polygon"]
+    file: str = Field(description="GeoJSON of the release area (Polygon / MultiPolygon features, map "
+                                  "coordinates of the case), relative to the case file")
+    dem: str = Field(description="The ground's DEM (GeoTIFF / ESRI ASCII), relative to the case file")
+    thickness: float | None = Field(None, gt=0, description="Uniform release thickness [m], measured vertically")
+    thickness_attribute: str | None = Field(
+        None, description="Name of a per-feature property holding the thickness [m] (instead of 'thickness')")
+
+
+class ReleaseRasterGeometry(Strict):
+    """A release thickness raster: the ground's DEM surface filled upward by the raster's value (3D)."""
+
+    type: Literal["release_raster"]
+    file: str = Field(description="Raster of release thickness [m], measured vertically; NoData or <= 0 = none")
+    dem: str = Field(description="The ground's DEM (GeoTIFF / ESRI ASCII), relative to the case file")
+
+
+class BetweenSurfacesGeometry(Strict):
+    """The mass between a failure surface and the pre-event ground, two DEMs (3D)."""
+
+    type: Literal["between_surfaces"]
+    surface: str = Field(description="Pre-event ground DEM (the top of the mass)")
+    failure_surface: str = Field(description="Failure-surface DEM (the bottom of the mass; use it as the terrain)")
+
+
+Geometry = Annotated[Union[BoxGeometry, PolygonGeometry, StlGeometry, ReleasePolygonGeometry, ReleaseRasterGeometry,
+                           BetweenSurfacesGeometry], Field(discriminator="type")]
 
 
 class VelocityProfile(Strict):

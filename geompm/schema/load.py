@@ -219,6 +219,17 @@ def _check_body(i, body, case: Case, base_dir: Path, problems):
         problem = unreadable_file(case_relative(base_dir, geom.file), geom.file)
         if problem:
             problems.append((f"{gpath}.file", f"mesh {problem}"))
+    else:  # release bodies from GIS files (release.py)
+        if dim != 3:
+            problems.append((f"{gpath}.type", f"a '{geom.type}' body needs a 3D case (it fills a DEM surface)"))
+        if geom.type == "release_polygon" and (geom.thickness is None) == (geom.thickness_attribute is None):
+            problems.append((gpath, "give exactly one of 'thickness' [m] and 'thickness_attribute'"))
+        keys = ("surface", "failure_surface") if geom.type == "between_surfaces" else ("file", "dem")
+        for key in keys:
+            name = getattr(geom, key)
+            problem = unreadable_file(case_relative(base_dir, name), name)
+            if problem:
+                problems.append((f"{gpath}.{key}", problem))
 
 
 _PLUGIN_LISTS = (
