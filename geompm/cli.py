@@ -267,10 +267,19 @@ def cmd_info(args) -> int:
             unit = "N" if case.get("dimension") == 3 else "N/m"
             print(f"peak force   {name}: {o['peak_force']:.4g} {unit} at t = {o['peak_time']:.4g} s")
     print(f"simulated    t = {float(last['time']):.6g} s of {case['time']['end']:g} s, {last['step']} steps")
-    print(f"runout       front x = {float(last['front_x']):.4g} m at the last series row")
+    print(f"runout       front x = {float(last['front_x']):.3f} m at the last series row")
     outs = [name for name, present in (("VTU/PVD", (run_dir / "particles.pvd").is_file()),
                                        ("HDF5", (run_dir / "results.h5").is_file())) if present]
     print(f"outputs      series.csv ({len(lines) - 1} rows, {len(cols)} columns)" + "".join(f", {o}" for o in outs))
+    maps = run_dir / "maps" / "summary.json"
+    if maps.is_file():
+        m = json.loads(maps.read_text())
+        print(f"hazard maps  impact area {m['impact_area_m2']:.4g} m2 (depth >= {m['depth_threshold']:g} m), "
+              f"deposit {m['deposit_volume_m3']:.4g} m3 of {m['source_volume_m3']:.4g} m3 released, "
+              f"peak pressure {m['peak_pressure_Pa'] / 1e3:.4g} kPa, peak speed {m['peak_speed_m_s']:.3g} m/s")
+        if m.get("travel_angle_deg") is not None:
+            print(f"travel       runout {m['runout_length_m']:.4g} m, drop H = {m['drop_height_m']:.4g} m, "
+                  f"H/L = {m['drop_height_m'] / m['runout_length_m']:.3f} (travel angle {m['travel_angle_deg']:.3g} deg)")
     return 0
 
 
@@ -346,7 +355,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("info", help="summarise a run folder")
     p.add_argument("run_dir")
     p.set_defaults(func=cmd_info)
-    p = sub.add_parser("plot", help="PNGs of a run: series, obstacle forces, 2D deposit")
+    p = sub.add_parser("plot", help="PNGs of a run: series, obstacle forces, 2D deposit, hazard maps")
     p.add_argument("run_dir")
     p.add_argument("-o", "--output", help="folder for the PNGs (default RUN_DIR/plots)")
     p.set_defaults(func=cmd_plot)

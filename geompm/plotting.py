@@ -15,7 +15,8 @@ from pathlib import Path
 import numpy as np
 
 
-PNG_NAMES = ("series.png", "forces.png", "deposit.png")  # what plot_run writes
+PNG_NAMES = ("series.png", "forces.png", "deposit.png", "map_depth_max.png", "map_speed_max.png",
+             "map_pressure_max.png", "map_arrival.png", "map_deposit.png")  # what plot_run writes (maps_plot.py)
 
 
 def _load(series_csv):
@@ -98,7 +99,8 @@ def plot_deposit(positions: np.ndarray, bodies: np.ndarray, png: str | Path, tit
 
 
 def plot_run(run_dir: str | Path, out_dir: str | Path | None = None) -> list[Path]:
-    """PNGs of a run folder: series, obstacle forces, and the 2D deposit at the last saved state."""
+    """PNGs of a run folder: series, obstacle forces, the 2D deposit at the last saved state, and the
+    hazard maps over a hillshade when the run wrote them (maps_plot.py)."""
     from .engine import checkpoint
 
     run_dir = Path(run_dir)
@@ -113,4 +115,8 @@ def plot_run(run_dir: str | Path, out_dir: str | Path | None = None) -> list[Pat
         if arrays["p_x"].shape[1] == 2:
             made.append(plot_deposit(arrays["p_x"], arrays["p_body"], out / "deposit.png",
                                      f"{run_dir.name}: particles at t = {meta['time']:.4g} s"))
+    if (run_dir / "maps" / "summary.json").is_file():
+        from .maps_plot import plot_maps
+
+        made += plot_maps(run_dir, out)
     return made

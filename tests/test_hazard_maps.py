@@ -1,8 +1,8 @@
 """Hazard maps (writers/hazard_maps.py; issue 18, point 4) from a block sliding down a DEM incline.
 
 Checked on the maps a `geompm run` writes: the deposit raster integrated over the cell areas equals
-the particles' volume (the depth is the binned volume over the cell area, so to round-off while every
-particle is over the raster; the issue asks 3 %); the maximum-depth raster is >= the deposit
+the particles' volume (the depth is the binned reference volume over the cell area, so to the
+block's elastic volume change while every particle is over the raster; the issue asks 3 %); the maximum-depth raster is >= the deposit
 everywhere; the arrival time grows down the slope along the block's centre line; the GeoTIFFs carry
 the DEM's CRS and transform exactly (read back with rasterio); the run's VTU points are the map
 coordinates (eastings of 2.6e6 m, EPSG:2056): the same case in local coordinates gives the same
@@ -10,6 +10,7 @@ particles shifted by the map offset to 1e-6 m, at the start and after 0.3 s of s
 """
 
 import json
+import math
 
 import meshio
 import numpy as np
@@ -37,7 +38,7 @@ def _site_case(tmp_path):
     return tmp_path / "site.json", height
 
 
-def test_hazard_maps_of_a_sliding_block(tmp_path):
+def test_hazard_maps_of_a_sliding_block(tmp_path, capsys):
     path, height = _site_case(tmp_path)
     out = tmp_path / "run"
     assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
@@ -64,6 +65,18 @@ def test_hazard_maps_of_a_sliding_block(tmp_path):
     assert float(maps["speed_max"].max()) > 0.5 and float(maps["pressure_max"].max()) > 0.0
     summary = json.loads((out / "maps" / "summary.json").read_text())
     assert summary["deposit_volume_m3"] == pytest.approx(volume, rel=0.03) and summary["crs"] == "EPSG:2056"
+    # travel on a plane: the drop between two ground points over their distance is tan 30 deg, plus the
+    # release depth at the top cell (at most the block's vertical 0.17 m) over the runout (~0.4 m)
+    L = summary["runout_length_m"]
+    assert 0.3 < L < 0.6
+    most = math.degrees(math.atan(math.tan(math.radians(30)) + 0.15 / math.cos(math.radians(30)) / L))
+    assert 30.0 < summary["travel_angle_deg"] <= most
+    assert main(["info", str(out)]) == 0
+    assert "travel angle" in capsys.readouterr().out
+    assert main(["plot", str(out)]) == 0  # the maps over the DEM's hillshade (maps_plot.py)
+    for name in ("depth_max", "speed_max", "pressure_max", "arrival", "deposit"):
+        png = (out / "plots" / f"map_{name}.png").read_bytes()
+        assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 10_000, name
     # VTU points are the map coordinates: the same case in local coordinates (origin 0) gives the same
     # particles shifted by (E, N), to 1e-6 m, at t = 0 and after 0.3 s of sliding
     (tmp_path / "local").mkdir()

@@ -167,7 +167,7 @@ def test_dem_problems_are_refused_with_the_json_path(tmp_path):
         scene_from_dict(case, base_dir=tmp_path)
     write_dem(tmp_path / "small.tif", height, 0.2, 0.2, 20, 20, 0.05)
     case["obstacles"][0]["dem"] = "small.tif"
-    with pytest.raises(CaseError, match=r"obstacles\.0\.dem.*does not reach|obstacles\.0\.dem.*covers"):
+    with pytest.raises(CaseError, match=r"obstacles\.0\.dem.*(does not reach|pixels cover)"):
         scene_from_dict(case, base_dir=tmp_path)
     case["obstacles"][0]["dem"] = "slope.tif"  # written by _block_case, in EPSG:2056
     case["crs"] = "EPSG:32632"  # UTM 32N

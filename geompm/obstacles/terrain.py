@@ -163,11 +163,13 @@ class Terrain(ContactForceStage):
         if self.params.clip is not None:
             lo, hi = np.maximum(lo, self.params.clip[0]), np.minimum(hi, self.params.clip[1])
         dem = read_dem(path, where, (lo, hi))
-        if dem.x0 > lo[0] or dem.y0 > lo[1] or dem.upper[0] < hi[0] or dem.upper[1] < hi[1]:
-            raise CaseError([(where, f"the DEM covers x {dem.x0:.6g}..{dem.upper[0]:.6g}, y {dem.y0:.6g}.."
-                                     f"{dem.upper[1]:.6g} m (pixel centres) but the grid (or clip) needs x "
-                                     f"{lo[0]:.6g}..{hi[0]:.6g}, y {lo[1]:.6g}..{hi[1]:.6g} m: enlarge the DEM or "
-                                     "set 'clip'")])
+        # the pixels' areas must cover the region (half a pixel beyond the outer centres)
+        hx, hy = 0.5 * dem.dx * (1 + 1e-9), 0.5 * dem.dy * (1 + 1e-9)
+        if dem.x0 - hx > lo[0] or dem.y0 - hy > lo[1] or dem.upper[0] + hx < hi[0] or dem.upper[1] + hy < hi[1]:
+            raise CaseError([(where, f"the DEM's pixels cover x {dem.x0 - dem.dx / 2:.3f}..{dem.upper[0] + dem.dx / 2:.3f}, "
+                                     f"y {dem.y0 - dem.dy / 2:.3f}..{dem.upper[1] + dem.dy / 2:.3f} m but the grid (or "
+                                     f"clip) needs x {lo[0]:.3f}..{hi[0]:.3f}, y {lo[1]:.3f}..{hi[1]:.3f} m: enlarge "
+                                     "the DEM or set 'clip'")])
         same = _same_crs(scene.crs, dem.crs)
         if same is not None:
             raise CaseError([(where, same)])

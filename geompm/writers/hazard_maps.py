@@ -4,11 +4,13 @@ Every step (whatever the output's ``interval``) the particles are binned by
 their (x, y) into the DEM's pixels (the terrain obstacle's DEM, or the file
 ``dem`` names; ``coarsen`` merges k x k pixels), and per pixel of area A:
 
-    flow depth      h = sum V_p / A                  [m]   (the particles' current volumes: the
-                                                            vertical thickness of the material over
-                                                            the pixel, however the column is packed)
+    flow depth      h = sum V0_p / A                 [m]   (the particles' reference volumes
+                                                            m_p / rho0: the vertical thickness the
+                                                            material over the pixel would have at its
+                                                            reference density; a flow that loosens
+                                                            or separates does not thicken the map)
     speed           |u|, u = sum m_p v_p / sum m_p   [m/s] (the column's mass-weighted velocity)
-    pressure        rho u^2, rho = sum m_p / sum V_p [Pa]  (dynamic pressure of the column)
+    pressure        rho u^2, rho = sum m_p / sum V0_p [Pa] (dynamic pressure of the column)
     kinetic energy  sum m_p |v_p|^2 / (2 A)          [J/m2]
 
 The maps kept are the maxima over the run of each (``depth_max``,
@@ -20,7 +22,10 @@ hflow_dep).  The speed, pressure and energy maxima count only columns at
 least ``depth_threshold`` deep (a lone particle's speed is not a flow's).
 Particles outside the raster are counted in ``volume_outside_m3`` of
 ``maps/summary.json``, with the impact area (cells that reached the threshold),
-the source and deposit volumes and the peak pressure and speed.  Files: ``maps/<name>.tif`` (float64, NoData -9999), written at
+the source and deposit volumes, the peak pressure and speed, and the travel:
+the horizontal distance L from the top of the release (its highest cell,
+ground plus release depth) to the farthest cell the flow reached, the drop
+H between them and the travel angle atan(H / L) (`geompm info` prints them).  Files: ``maps/<name>.tif`` (float64, NoData -9999), written at
 the end and at every checkpoint, each atomically; the accumulated state at a
 checkpoint goes to ``maps/state.npz`` so a resumed run carries on.
 """
@@ -28,6 +33,7 @@ checkpoint goes to ``maps/state.npz`` so a resumed run carries on.
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -112,10 +118,12 @@ class HazardMapWriter(Writer):
         from ..obstacles.terrain import Terrain
 
         if self.params.dem is not None:
-            return read_dem(case_relative(sim.scene.base_dir, self.params.dem), "outputs: hazard_maps.dem")
+            self.dem_path = case_relative(sim.scene.base_dir, self.params.dem)
+            return read_dem(self.dem_path, "outputs: hazard_maps.dem")
         for ob in sim.scene.obstacles:
             if isinstance(ob, Terrain):
-                return read_dem(case_relative(sim.scene.base_dir, ob.params.dem), f"{ob.json_path}.dem")
+                self.dem_path = case_relative(sim.scene.base_dir, ob.params.dem)
+                return read_dem(self.dem_path, f"{ob.json_path}.dem")
         raise CaseError([("outputs", "hazard_maps needs a raster: add a terrain obstacle or give 'dem'")])
 
     def open(self, run_dir: Path, sim) -> None:
@@ -126,6 +134,7 @@ class HazardMapWriter(Writer):
             raise CaseError([("outputs", f"hazard_maps.coarsen = {k} leaves no map cell on a "
                                          f"{dem.z.shape[0]} x {dem.z.shape[1]} raster")])
         self.crs = dem.crs
+        self.dem = dem
         self.cx, self.cy = dem.dx * k, dem.dy * k
         self.x0, self.y0 = dem.x0 - dem.dx / 2, dem.y0 - dem.dy / 2  # the raster's corner (pixel edges)
         self.area = self.cx * self.cy
@@ -141,7 +150,7 @@ class HazardMapWriter(Writer):
     def write(self, sim) -> None:
         st = sim.state
         nx, ny = self.depth.shape
-        self.volume_outside = column_sums(st.p_x, st.p_v, st.p_mass, st.p_vol, self.x0, self.y0, self.cx, self.cy,
+        self.volume_outside = column_sums(st.p_x, st.p_v, st.p_mass, st.p_vol0, self.x0, self.y0, self.cx, self.cy,
                                           nx, ny, self.sums)
         m = self.maps
         accumulate(self.sums, self.area, self.params.depth_threshold, sim.time, self.depth, m["depth_max"],
@@ -179,8 +188,29 @@ class HazardMapWriter(Writer):
                    "volume_outside_m3": float(self.volume_outside),
                    "last_arrival_s": float(m["arrival"][reached].max()) if reached.any() else None,
                    "peak_pressure_Pa": float(m["pressure_max"].max()), "peak_speed_m_s": float(m["speed_max"].max()),
-                   "crs": self.crs}
+                   "crs": self.crs, "depth_threshold": self.params.depth_threshold,
+                   "dem": str(self.dem_path.resolve())}
+        summary.update(self._travel(flowed))
         atomic_write_text(self.folder / "summary.json", json.dumps(summary, indent=1) + "\n")
+
+    def _travel(self, flowed) -> dict:
+        """Runout along the ground from the release's top to the farthest cell the flow reached (depth >=
+        threshold), its drop H and the travel angle atan(H / L) (the Fahrboeschung of practice)."""
+        src = self.maps["source"] > 0.0
+        if not src.any() or not flowed.any():
+            return {"runout_length_m": None, "drop_height_m": None, "travel_angle_deg": None}
+        nx, ny = self.depth.shape
+        cx = self.x0 + (np.arange(nx) + 0.5) * self.cx
+        cy = self.y0 + (np.arange(ny) + 0.5) * self.cy
+        X, Y = np.meshgrid(cx, cy, indexing="ij")
+        ground = self.dem.height(X.ravel(), Y.ravel()).reshape(X.shape)
+        top = np.unravel_index(np.argmax(np.where(src, ground + self.maps["source"], -np.inf)), src.shape)
+        dist = np.hypot(X - X[top], Y - Y[top])
+        far = np.unravel_index(np.argmax(np.where(flowed, dist, -1.0)), dist.shape)
+        length = float(dist[far])
+        drop = float(ground[top] + self.maps["source"][top] - ground[far])
+        angle = math.degrees(math.atan2(drop, length)) if length > 0 else None
+        return {"runout_length_m": length, "drop_height_m": drop, "travel_angle_deg": angle}
 
     def state(self) -> dict:
         self._geotiffs()
