@@ -1,6 +1,6 @@
 """Hockey stick: a block sliding down a 30 deg DEM slope onto flat DEM ground, against the point-mass closed form.
 
-    python benchmarks/terrain_hockey_stick.py [0.05 0.025 0.0125]
+    python benchmarks/terrain_hockey_stick.py [0.05 0.025 0.0125] [--size 0.16 0.16 0.08] [--pixel-ratio 1]
 
 Closed form (a point mass with Coulomb friction mu everywhere, starting from rest a distance s0 up the
 slope from the kink):  v1^2 = 2 g s0 (sin theta - mu cos theta) at the kink; the kink removes the
@@ -26,7 +26,8 @@ from geompm.engine.scheduler import Simulation  # noqa: E402
 from tests.test_terrain import write_dem  # noqa: E402
 
 G, THETA, MU, S0, KINK = 9.81, math.radians(30.0), 0.3, 2.0, 2.2
-SIZE = (0.16, 0.16, 0.08)  # block along the slope, across, normal [m]
+SIZE = [0.16, 0.16, 0.08]  # block along the slope, across, normal [m] (--size)
+PIXEL = [1.0]  # cell size / DEM pixel (--pixel-ratio)
 
 
 def closed_form():
@@ -44,8 +45,8 @@ def run(h):
     import trimesh
 
     tmp = Path(tempfile.mkdtemp())
-    n = int(round(4.4 / h))
-    write_dem(tmp / "stick.tif", ground, -0.2, -0.2, n, int(round(0.8 / h)), h)
+    px = h / PIXEL[0]
+    write_dem(tmp / "stick.tif", ground, -0.2, -0.2, int(round(4.4 / px)), int(round(0.8 / px)), px)
     down = np.array([math.cos(THETA), 0.0, -math.sin(THETA)])
     normal = np.array([math.sin(THETA), 0.0, math.cos(THETA)])
     start = np.array([KINK, 0.2, 0.2]) - S0 * down + (SIZE[2] / 2 + 0.001) * normal
@@ -76,7 +77,17 @@ def run(h):
 
 
 def main():
-    sizes = [float(a) for a in sys.argv[1:]] or [0.05, 0.025, 0.0125]
+    import argparse
+
+    ap = argparse.ArgumentParser()
+    ap.add_argument("cell_sizes", nargs="*", type=float, default=[0.05, 0.025, 0.0125])
+    ap.add_argument("--size", nargs=3, type=float, default=SIZE)
+    ap.add_argument("--pixel-ratio", type=float, default=1.0)
+    a = ap.parse_args()
+    SIZE[:] = a.size
+    PIXEL[0] = a.pixel_ratio
+    sizes = a.cell_sizes
+    print(f"block {SIZE} m, DEM pixel = h / {PIXEL[0]:g}")
     d_imp, d_free = closed_form()
     print(f"closed form: stops {d_imp:.4f} m past the kink (impulsive friction), {d_free:.4f} m without")
     for h in sizes:
