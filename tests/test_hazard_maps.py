@@ -32,8 +32,9 @@ def _site_case(tmp_path):
     case["obstacles"][0]["dem"] = "site.tif"
     case["bodies"][0]["geometry"]["translate"] = [EAST, NORTH, 0.0]
     case["time"]["end"] = 0.3
+    case["crs"] = "EPSG:2056"
     case["outputs"] = [{"writer": "hazard_maps", "depth_threshold": 0.01},
-                       {"writer": "vtu", "interval": 0.3}]
+                       {"writer": "vtu", "interval": 0.3}, {"writer": "hdf5", "interval": 0.3}]
     (tmp_path / "site.json").write_text(json.dumps(case))
     return tmp_path / "site.json", height
 
@@ -71,6 +72,10 @@ def test_hazard_maps_of_a_sliding_block(tmp_path, capsys):
     assert 0.3 < L < 0.6
     most = math.degrees(math.atan(math.tan(math.radians(30)) + 0.15 / math.cos(math.radians(30)) / L))
     assert 30.0 < summary["travel_angle_deg"] <= most
+    import h5py
+
+    with h5py.File(out / "results.h5") as f:
+        assert f.attrs["crs"] == "EPSG:2056"
     assert main(["info", str(out)]) == 0
     assert "travel angle" in capsys.readouterr().out
     assert main(["plot", str(out)]) == 0  # the maps over the DEM's hillshade (maps_plot.py)
@@ -93,3 +98,44 @@ def test_hazard_maps_of_a_sliding_block(tmp_path, capsys):
         np.testing.assert_allclose(shift[:, 0], EAST, rtol=0, atol=1e-6)
         np.testing.assert_allclose(shift[:, 1], NORTH, rtol=0, atol=1e-6)
         np.testing.assert_allclose(shift[:, 2], 0.0, rtol=0, atol=1e-6)
+
+
+def test_hazard_maps_resume_from_a_checkpoint_state(tmp_path):
+    """At a checkpoint the writer writes its GeoTIFFs and maps/state.npz; a resumed writer reloads the
+    maxima and the arrival times exactly and carries on accumulating."""
+    from geompm.api import scene_from_file
+    from geompm.engine.scheduler import Simulation
+    from geompm.writers.hazard_maps import MAPS, HazardMapParams, HazardMapWriter
+
+    path, _ = _site_case(tmp_path)
+    sim = Simulation(scene_from_file(path))
+    run = tmp_path / "run"
+    run.mkdir()
+    first = HazardMapWriter(HazardMapParams(), 0.0)
+    first.open(run, sim)
+    for _ in range(200):
+        sim.step(sim.stable_dt())
+        first.write(sim)
+    state = first.state()
+    assert (run / "maps" / "depth_max.tif").is_file() and (run / "maps" / "state.npz").is_file()
+    second = HazardMapWriter(HazardMapParams(), 0.0)
+    second.resume(run, sim, state)
+    for name in MAPS:
+        np.testing.assert_array_equal(second.maps[name], first.maps[name], err_msg=name)
+    assert (second.maps["arrival"] > 0).any()  # the block had moved onto new cells
+    for _ in range(50):
+        sim.step(sim.stable_dt())
+        first.write(sim)
+        second.write(sim)
+    for name in MAPS:
+        np.testing.assert_array_equal(second.maps[name], first.maps[name], err_msg=name)
+
+
+def test_hazard_maps_without_a_raster_are_refused_before_the_run(tmp_path):
+    from geompm.api import scene_from_dict
+    from geompm.errors import CaseError
+
+    case, _, _ = _block_case(tmp_path, 30.0, 0.0, 0.3, "plane")
+    case["outputs"] = [{"writer": "hazard_maps"}]
+    with pytest.raises(CaseError, match=r"outputs\.0\.dem.*terrain obstacle"):
+        scene_from_dict(case, base_dir=tmp_path)

@@ -111,6 +111,8 @@ class HazardMapWriter(Writer):
     def check(cls, params, case):
         if case.dimension != 3:
             return [("writer", "hazard maps need a 3D case (maps of a surface z = H(x, y))")]
+        if params.dem is None and not any(o.type == "terrain" for o in case.obstacles):
+            return [("dem", "no raster for the maps: add a terrain obstacle or give 'dem' (a GeoTIFF)")]
         return []
 
     def _raster(self, sim):

@@ -104,6 +104,7 @@ class Hdf5Writer(Writer):
                 f.attrs["dimension"] = sim.scene.dim
                 f.attrs["case"] = sim.scene.case_text
                 f.attrs["units"] = "SI: m, s, kg, Pa, N (N/m in 2D plane strain), J (J/m in 2D)"
+                f.attrs["crs"] = sim.scene.crs or ""  # the case's coordinate reference system, '' if none
                 f["times"] = np.array([o[0] for o in self.outputs], float)
                 f["steps"] = np.array([o[1] for o in self.outputs], np.int64)
                 grp = f.create_group("series")
