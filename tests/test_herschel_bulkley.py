@@ -47,3 +47,46 @@ def test_the_cap_bounds_the_viscosity_and_sets_the_explicit_limit():
     bingham_like = HerschelBulkley(HerschelBulkley.Params(density=1800.0, consistency=2.0, flow_index=1.0,
                                                           yield_stress=50.0, sound_speed=30.0))
     assert bingham_like.kinematic_viscosity() == pytest.approx((50.0 * 100.0 + 2.0) / 1800.0)
+
+
+@pytest.mark.parametrize("n", [0.5, 1.0, 1.5])
+def test_the_elastoviscoplastic_integration_reaches_the_same_steady_shear_stress(n):
+    """Elasto-viscoplastic integration (fluid.evp_fluid_stress): under a constant shear rate the
+    backward-Euler Maxwell update tau_{k+1} = (tau_k^J + 2 G D' dt) / (1 + G dt / mu) converges to the
+    corotational (Jaumann) Maxwell steady state tau_xy = mu gamma_dot / (1 + Wi^2), Wi = lambda
+    gamma_dot = tau / G the Weissenberg number, lambda = mu / G.  With G = 2e7 Pa (Wi <= 0.008 on this
+    range) the steady |tau| is tau_y + K gamma_dot^n within 1 % over gamma_dot = 1e-2 ... 1e3 s^-1.  With
+    the default G = rho0 c^2 / 4 = 4.05e5 Pa and n = 1.5 at 1e3 s^-1 (tau = 1.6e5 Pa, Wi = 0.39) the
+    shear stress is 13 % low, exactly the Jaumann-Maxwell value: G must be well above the largest shear
+    stress (docs/materials.md)."""
+    def steady(mat, G, rate, exact):
+        lam = (exact / rate) / G  # Maxwell relaxation time mu / G [s]
+        L = np.zeros((1, 3, 3))
+        L[0, 0, 1] = rate
+        stress = np.zeros((1, 6))
+        state = mat.initial_state(1)
+        for _ in range(80):
+            mat.update_stress(lam, L, np.full(1, 1800.0), stress, state)  # dt = lambda
+        return stress[0, 3]
+
+    def law(G):
+        return HerschelBulkley(HerschelBulkley.Params(
+            density=1800.0, consistency=5.0, flow_index=n, yield_stress=50.0, regularisation_time=1e4,
+            max_viscosity=1e7, sound_speed=30.0, integration="elastoviscoplastic", shear_modulus=G))
+    stiff = law(2e7)
+    assert stiff.kinematic_viscosity() == 0.0  # no explicit viscous limit
+    for rate in RATES[::4]:
+        exact = 50.0 + 5.0 * rate ** n
+        assert steady(stiff, 2e7, rate, exact) == pytest.approx(exact, rel=0.01), (n, rate)
+    G = 0.25 * 1800.0 * 30.0 ** 2
+    exact = 50.0 + 5.0 * 1e3 ** n
+    wi = exact / G
+    assert steady(law(None), G, 1e3, exact) == pytest.approx(exact / (1 + wi ** 2), rel=0.01)
+    # the first step from rest is elastic: tau = G gamma_dot dt / (1 + G dt / mu), not mu gamma_dot
+    L = np.zeros((1, 3, 3))
+    L[0, 0, 1] = 1.0
+    stress = np.zeros((1, 6))
+    mat = law(None)
+    mat.update_stress(1e-6, L, np.full(1, 1800.0), stress, mat.initial_state(1))
+    mu = 50.0 * (1 - np.exp(-1e4)) + 5.0
+    assert stress[0, 3] == pytest.approx(G * 1e-6 / (1 + G * 1e-6 / mu), rel=1e-6)

@@ -11,7 +11,8 @@ divides by zero:
 with M = ``regularisation_time`` [s]; mu_eff -> mu_B + tau_B M as
 gamma_dot -> 0 and equals the Bingham value within a factor exp(-M gamma_dot)
 of the yield term above gamma_dot ~ 5 / M.  gamma_dot = sqrt(2 D':D') (fluid.py).
-The zero-rate viscosity mu_B + tau_B M sets the viscous time-step limit.
+The zero-rate viscosity mu_B + tau_B M sets the viscous time-step limit of the
+explicit integration; "integration": "elastoviscoplastic" removes it (fluid.py).
 """
 
 from __future__ import annotations
@@ -21,22 +22,19 @@ import math
 from numba import njit
 from pydantic import Field
 
-from .base import MaterialParams
-from .fluid import set_fluid_stress, shear_rate
+from .fluid import shear_rate, yield_fluid_stress
 from ..layout import param_layout
-from .tait import EOS, TaitFluid, eos_pressure
+from .tait import EOS, YieldFluid, YieldFluidParams, eos_pressure
 
 #: packed parameters: EOS, mu_B [Pa s], tau_B [Pa], M [s]
 BINGHAM = param_layout(EOS, "viscosity", "yield_stress", "regularisation_time")
 
 
-class BinghamParams(MaterialParams):
+class BinghamParams(YieldFluidParams):
     viscosity: float = Field(gt=0, description="Plastic (Bingham) viscosity mu_B [Pa s]")
     yield_stress: float = Field(ge=0, description="Bingham yield stress tau_B [Pa]")
     regularisation_time: float = Field(
         100.0, gt=0, description="Papanastasiou parameter M [s]; larger is closer to ideal Bingham")
-    sound_speed: float = Field(gt=0, description="Artificial sound speed c of the Tait EOS [m/s]")
-    eos_exponent: float = Field(7.0, ge=1.0, le=15.0, description="Exponent r of the Tait EOS [-]")
 
 
 @njit(cache=True, inline="always")
@@ -52,11 +50,11 @@ def bingham_stress(prm, dt, L, rho, s, state):
     """One particle's regularised Bingham stress; s (6,) and state (1,) in place."""
     gdot = shear_rate(L)
     mu = bingham_viscosity(gdot, prm[BINGHAM.viscosity], prm[BINGHAM.yield_stress], prm[BINGHAM.regularisation_time])
-    set_fluid_stress(s, L, eos_pressure(prm, rho), mu)
+    yield_fluid_stress(s, L, eos_pressure(prm, rho), mu, prm[EOS.shear_modulus], dt)
     state[0] = gdot
 
 
-class Bingham(TaitFluid):
+class Bingham(YieldFluid):
     name = "bingham"
     description = "Bingham viscoplastic fluid (Papanastasiou-regularised) with Tait EOS pressure"
     Params = BinghamParams
@@ -66,13 +64,13 @@ class Bingham(TaitFluid):
 
     @classmethod
     def pack(cls, p):
-        return cls.pack_eos(p, viscosity=p.viscosity, yield_stress=p.yield_stress,
+        return cls.pack_yield_fluid(p, viscosity=p.viscosity, yield_stress=p.yield_stress,
                             regularisation_time=p.regularisation_time)
 
     @classmethod
     def example_params(cls):
         return cls.Params(density=2000.0, viscosity=1.0, yield_stress=50.0, sound_speed=30.0)
 
-    def kinematic_viscosity(self) -> float:
+    def largest_viscosity(self) -> float:
         p = self.params
-        return (p.viscosity + p.yield_stress * p.regularisation_time) / p.density
+        return p.viscosity + p.yield_stress * p.regularisation_time

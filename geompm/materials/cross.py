@@ -23,10 +23,9 @@ from numba import njit
 from pydantic import Field, model_validator
 
 from ..plugin import Params
-from .base import MaterialParams
-from .fluid import set_fluid_stress, shear_rate
+from .fluid import shear_rate, yield_fluid_stress
 from ..layout import param_layout
-from .tait import EOS, TaitFluid, eos_pressure
+from .tait import EOS, YieldFluid, YieldFluidParams, eos_pressure
 
 #: packed parameters: EOS, mu_0 and mu_inf [Pa s], A [s], m [-]
 CROSS = param_layout(EOS, "viscosity_zero", "viscosity_infinity", "time_constant", "rate_exponent")
@@ -37,15 +36,13 @@ class BinghamMapping(Params):
     yield_stress: float = Field(gt=0, description="Bingham yield stress tau_B [Pa] -> A = mu_0 / tau_B")
 
 
-class CrossParams(MaterialParams):
+class CrossParams(YieldFluidParams):
     viscosity_zero: float | None = Field(None, gt=0, description="Low-shear-rate viscosity mu_0 [Pa s]")
     viscosity_infinity: float | None = Field(None, ge=0, description="High-shear-rate viscosity mu_inf [Pa s]")
     time_constant: float | None = Field(None, gt=0, description="Cross time constant A (K in the source) [s]")
     rate_exponent: float = Field(1.0, gt=0, le=2.0, description="Cross exponent m [-]")
     from_bingham: BinghamMapping | None = Field(
         None, description="Derive mu_inf, mu_0, A, m from Bingham parameters (source's mapping)")
-    sound_speed: float = Field(gt=0, description="Artificial sound speed c of the Tait EOS [m/s]")
-    eos_exponent: float = Field(7.0, ge=1.0, le=15.0, description="Exponent r of the Tait EOS [-]")
 
     @model_validator(mode="after")
     def _resolve(self):
@@ -77,12 +74,12 @@ def cross_stress(prm, dt, L, rho, s, state):
     gdot = shear_rate(L)
     mu = cross_viscosity(gdot, prm[CROSS.viscosity_zero], prm[CROSS.viscosity_infinity], prm[CROSS.time_constant],
                          prm[CROSS.rate_exponent])
-    set_fluid_stress(s, L, eos_pressure(prm, rho), mu)
+    yield_fluid_stress(s, L, eos_pressure(prm, rho), mu, prm[EOS.shear_modulus], dt)
     state[0] = gdot
     state[1] = mu
 
 
-class Cross(TaitFluid):
+class Cross(YieldFluid):
     name = "cross"
     description = "Generalized Cross shear-thinning fluid with Tait EOS pressure (source eq. 6)"
     Params = CrossParams
@@ -92,12 +89,12 @@ class Cross(TaitFluid):
 
     @classmethod
     def pack(cls, p):
-        return cls.pack_eos(p, viscosity_zero=p.viscosity_zero, viscosity_infinity=p.viscosity_infinity,
+        return cls.pack_yield_fluid(p, viscosity_zero=p.viscosity_zero, viscosity_infinity=p.viscosity_infinity,
                             time_constant=p.time_constant, rate_exponent=p.rate_exponent)
 
     @classmethod
     def example_params(cls):
         return cls.Params(density=2650.0, sound_speed=30.0, from_bingham={"viscosity": 1.2, "yield_stress": 500.0})
 
-    def kinematic_viscosity(self) -> float:
-        return float(self.params.viscosity_zero / self.params.density)
+    def largest_viscosity(self) -> float:
+        return float(self.params.viscosity_zero)

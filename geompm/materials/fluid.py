@@ -12,6 +12,8 @@ import math
 
 from numba import njit
 
+from ..kernels.voigt import jaumann_increment
+
 
 @njit(cache=True, inline="always")
 def shear_rate(L):
@@ -36,3 +38,43 @@ def set_fluid_stress(s, L, P, mu):
     s[3] = mu * (L[0, 1] + L[1, 0])
     s[4] = mu * (L[1, 2] + L[2, 1])
     s[5] = mu * (L[0, 2] + L[2, 0])
+
+
+@njit(cache=True, inline="always")
+def evp_fluid_stress(s, L, P, mu, G, dt):
+    """Elasto-viscoplastic update of one particle: s <- -P I + tau_{n+1} (Voigt, in place), with
+
+        tau_{n+1} = (tau_n^J + 2 G D' dt) / (1 + G dt / mu),
+
+    the backward-Euler step of the Maxwell model dtau/dt = 2 G D' - (G / mu) tau (tau_n^J the
+    Jaumann-rotated deviator of s_n, mu = mu_eff(gamma_dot) of the law at the current rate).  It is
+    stable at any dt; its steady state under a constant rate is tau = 2 mu D', the viscous law; below
+    yield (mu large, relaxation time mu / G long) the fluid is an elastic solid of shear modulus G.
+    The elasto-viscoplastic form of yield-stress fluids in MPM: Yue et al. 2015, ACM TOG 34(5):160."""
+    jz = jaumann_increment(s, L, dt)
+    r0, r1, r2 = s[0] + jz[0], s[1] + jz[1], s[2] + jz[2]
+    m = (r0 + r1 + r2) / 3.0
+    tr3 = (L[0, 0] + L[1, 1] + L[2, 2]) / 3.0
+    k = 1.0 / (1.0 + G * dt / mu) if mu > 0.0 else 0.0
+    g2 = 2.0 * G * dt
+    s0 = k * (r0 - m + g2 * (L[0, 0] - tr3))
+    s1 = k * (r1 - m + g2 * (L[1, 1] - tr3))
+    s2 = k * (r2 - m + g2 * (L[2, 2] - tr3))
+    s3 = k * (s[3] + jz[3] + G * dt * (L[0, 1] + L[1, 0]))
+    s4 = k * (s[4] + jz[4] + G * dt * (L[1, 2] + L[2, 1]))
+    s5 = k * (s[5] + jz[5] + G * dt * (L[0, 2] + L[2, 0]))
+    s[0] = s0 - P
+    s[1] = s1 - P
+    s[2] = s2 - P
+    s[3] = s3
+    s[4] = s4
+    s[5] = s5
+
+
+@njit(cache=True, inline="always")
+def yield_fluid_stress(s, L, P, mu, G, dt):
+    """The explicit viscous stress (G = 0) or the elasto-viscoplastic update (G > 0)."""
+    if G > 0.0:
+        evp_fluid_stress(s, L, P, mu, G, dt)
+    else:
+        set_fluid_stress(s, L, P, mu)

@@ -28,15 +28,14 @@ from numba import njit
 from pydantic import Field, model_validator
 
 from ..layout import param_layout
-from .base import MaterialParams
-from .fluid import set_fluid_stress, shear_rate
-from .tait import EOS, TaitFluid, eos_pressure
+from .fluid import shear_rate, yield_fluid_stress
+from .tait import EOS, YieldFluid, YieldFluidParams, eos_pressure
 
 #: packed parameters: EOS, K [Pa s^n], n [-], tau_y [Pa], M [s], mu_max [Pa s] (inf: no cap)
 HB = param_layout(EOS, "consistency", "flow_index", "yield_stress", "regularisation_time", "max_viscosity")
 
 
-class HerschelBulkleyParams(MaterialParams):
+class HerschelBulkleyParams(YieldFluidParams):
     consistency: float = Field(gt=0, description="Consistency K [Pa s^n]")
     flow_index: float = Field(gt=0.05, le=2.0, description="Flow index n [-] (1: Bingham)")
     yield_stress: float = Field(ge=0, description="Yield stress tau_y [Pa]")
@@ -44,8 +43,6 @@ class HerschelBulkleyParams(MaterialParams):
         100.0, gt=0, description="Papanastasiou parameter M [s]; larger is closer to the ideal yield stress")
     max_viscosity: float | None = Field(
         None, gt=0, description="Cap mu_max on the effective viscosity [Pa s]; required for flow_index != 1")
-    sound_speed: float = Field(gt=0, description="Artificial sound speed c of the Tait EOS [m/s]")
-    eos_exponent: float = Field(7.0, ge=1.0, le=15.0, description="Exponent r of the Tait EOS [-]")
 
     @model_validator(mode="after")
     def _cap_for_thinning(self):
@@ -80,12 +77,12 @@ def hb_stress(prm, dt, L, rho, s, state):
     gdot = shear_rate(L)
     mu = hb_viscosity(gdot, prm[HB.consistency], prm[HB.flow_index], prm[HB.yield_stress],
                       prm[HB.regularisation_time], prm[HB.max_viscosity])
-    set_fluid_stress(s, L, eos_pressure(prm, rho), mu)
+    yield_fluid_stress(s, L, eos_pressure(prm, rho), mu, prm[HB.shear_modulus], dt)
     state[0] = gdot
     state[1] = mu
 
 
-class HerschelBulkley(TaitFluid):
+class HerschelBulkley(YieldFluid):
     name = "herschel_bulkley"
     description = "Herschel-Bulkley viscoplastic fluid tau = tau_y + K gamma_dot^n (regularised), Tait EOS"
     Params = HerschelBulkleyParams
@@ -96,7 +93,7 @@ class HerschelBulkley(TaitFluid):
     @classmethod
     def pack(cls, p):
         cap = math.inf if p.max_viscosity is None else p.max_viscosity
-        return cls.pack_eos(p, consistency=p.consistency, flow_index=p.flow_index, yield_stress=p.yield_stress,
+        return cls.pack_yield_fluid(p, consistency=p.consistency, flow_index=p.flow_index, yield_stress=p.yield_stress,
                             regularisation_time=p.regularisation_time, max_viscosity=cap)
 
     @classmethod
@@ -112,5 +109,3 @@ class HerschelBulkley(TaitFluid):
         cap = math.inf if p.max_viscosity is None else p.max_viscosity
         return min(cap, p.yield_stress * p.regularisation_time + p.consistency)
 
-    def kinematic_viscosity(self) -> float:
-        return float(self.largest_viscosity() / self.params.density)
