@@ -51,14 +51,14 @@ def test_the_cap_bounds_the_viscosity_and_sets_the_explicit_limit():
 
 @pytest.mark.parametrize("n", [0.5, 1.0, 1.5])
 def test_the_elastoviscoplastic_integration_reaches_the_same_steady_shear_stress(n):
-    """Elasto-viscoplastic integration (fluid.evp_fluid_stress): under a constant shear rate the
-    backward-Euler Maxwell update tau_{k+1} = (tau_k^J + 2 G D' dt) / (1 + G dt / mu) converges to the
-    corotational (Jaumann) Maxwell steady state tau_xy = mu gamma_dot / (1 + Wi^2), Wi = lambda
-    gamma_dot = tau / G the Weissenberg number, lambda = mu / G.  With G = 2e7 Pa (Wi <= 0.008 on this
+    """Elasto-viscoplastic integration (fluid.evp_yield_stress: elastic trial, return to the flow
+    surface tau = tau_y + K gp^n): under a constant shear rate the stress converges to the corotational
+    (Jaumann) steady state, whose shear stress falls below the viscous law as the Weissenberg number
+    Wi = tau / G grows (a Maxwell element: mu gamma_dot / (1 + Wi^2)).  With G = 2e7 Pa (Wi <= 0.008 on this
     range) the steady |tau| is tau_y + K gamma_dot^n within 1 % over gamma_dot = 1e-2 ... 1e3 s^-1.  With
     the default G = rho0 c^2 / 4 = 4.05e5 Pa and n = 1.5 at 1e3 s^-1 (tau = 1.6e5 Pa, Wi = 0.39) the
-    shear stress is 13 % low, exactly the Jaumann-Maxwell value: G must be well above the largest shear
-    stress (docs/materials.md)."""
+    shear stress is 15 % low (measured 0.846): G must be well above the largest shear stress
+    (docs/materials.md)."""
     def steady(mat, G, rate, exact):
         lam = (exact / rate) / G  # Maxwell relaxation time mu / G [s]
         L = np.zeros((1, 3, 3))
@@ -80,13 +80,19 @@ def test_the_elastoviscoplastic_integration_reaches_the_same_steady_shear_stress
         assert steady(stiff, 2e7, rate, exact) == pytest.approx(exact, rel=0.01), (n, rate)
     G = 0.25 * 1800.0 * 30.0 ** 2
     exact = 50.0 + 5.0 * 1e3 ** n
-    wi = exact / G
-    assert steady(law(None), G, 1e3, exact) == pytest.approx(exact / (1 + wi ** 2), rel=0.01)
-    # the first step from rest is elastic: tau = G gamma_dot dt / (1 + G dt / mu), not mu gamma_dot
+    ratio = steady(law(None), G, 1e3, exact) / exact
+    if n == 1.5:  # tau / G = 0.39: the rotation of the elastic stress takes 15 % off (measured 0.846)
+        assert 0.80 < ratio < 0.90, ratio
+    else:  # tau / G <= 4e-4
+        assert ratio == pytest.approx(1.0, rel=0.01)
+    # below yield a step is elastic: tau = G gamma_dot dt exactly (no creep), until tau reaches tau_y
     L = np.zeros((1, 3, 3))
     L[0, 0, 1] = 1.0
     stress = np.zeros((1, 6))
     mat = law(None)
-    mat.update_stress(1e-6, L, np.full(1, 1800.0), stress, mat.initial_state(1))
-    mu = 50.0 * (1 - np.exp(-1e4)) + 5.0
-    assert stress[0, 3] == pytest.approx(G * 1e-6 / (1 + G * 1e-6 / mu), rel=1e-6)
+    state = mat.initial_state(1)
+    mat.update_stress(1e-6, L, np.full(1, 1800.0), stress, state)
+    assert stress[0, 3] == pytest.approx(G * 1e-6, rel=1e-12)
+    for _ in range(200):  # 200 x 0.405 Pa: past the 50 Pa yield stress, then on the flow surface
+        mat.update_stress(1e-6, L, np.full(1, 1800.0), stress, state)
+    assert 50.0 < stress[0, 3] < 50.0 + 5.0 * 1.0 ** n + 1e-9

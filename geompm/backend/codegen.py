@@ -20,8 +20,11 @@ only for functions defined in a source file, and a loop made by a closure
 over the plugin would be compiled afresh in every process (a closure's cache
 key includes the plugin object, whose identity changes from process to
 process).  The file's name carries a hash of the functions' modules, names
-and source files and of the loop source, so editing a plugin writes a new
-loop file and numba compiles it again; an unchanged plugin reuses the cache.
+and source files, of every geompm source file (the helpers the functions
+inline live there, and numba's cache checks only the loop file itself: an
+edited helper once ran stale compiled code) and of the loop source, so
+editing a plugin or geompm writes a new loop file and numba compiles it
+again; unchanged sources reuse the cache.
 
 Functions defined where they cannot be imported by name (inside a function,
 in ``__main__``) get the same loops as closures, compiled in-process without
@@ -49,6 +52,7 @@ HEADER = "# geompm generated kernel loop: do not edit (geompm/backend/codegen.py
 
 _CACHE: dict = {}
 _FOLDER: list = []
+_DIGEST: list = []
 
 
 def kernel_folder() -> Path:
@@ -137,10 +141,23 @@ def loops(kind: str, functions: dict, body: str, names: tuple[str, ...]):
     return out
 
 
+def _geompm_digest() -> bytes:
+    """sha256 of every source file of the geompm package: the helpers a plugin's function inlines
+    (contact rules, the Jaumann increment, the Tait EOS) live there, and numba's cache checks only the
+    loop file itself, so an edited helper must change the loop file's name too."""
+    if not _DIGEST:
+        root = Path(__file__).resolve().parents[1]
+        h = hashlib.sha256()
+        for f in sorted(root.rglob("*.py")):
+            h.update(f.read_bytes())
+        _DIGEST.append(h.digest())
+    return _DIGEST[0]
+
+
 def _module(kind, functions, body, names):
     pys = {a: fn.py_func for a, fn in functions.items()}
     files = sorted({inspect.getsourcefile(p) for p in pys.values()})
-    digest = hashlib.sha256(b"".join(Path(f).read_bytes() for f in files)).hexdigest()[:16]
+    digest = hashlib.sha256(b"".join(Path(f).read_bytes() for f in files) + _geompm_digest()).hexdigest()[:16]
     idents = [f"{p.__module__}.{p.__name__}" for p in pys.values()]
     head = (HEADER + f"# {kind}: {', '.join(idents)}; plugin source sha256 {digest}\n"
             "import numpy as np\nfrom numba import njit, prange\n\n"

@@ -22,7 +22,7 @@ import math
 from numba import njit
 from pydantic import Field
 
-from .fluid import shear_rate, yield_fluid_stress
+from .fluid import evp_yield_stress, set_fluid_stress, shear_rate
 from ..layout import param_layout
 from .tait import EOS, YieldFluid, YieldFluidParams, eos_pressure
 
@@ -49,8 +49,13 @@ def bingham_viscosity(gdot, mu_b, tau_b, m):
 def bingham_stress(prm, dt, L, rho, s, state):
     """One particle's regularised Bingham stress; s (6,) and state (1,) in place."""
     gdot = shear_rate(L)
-    mu = bingham_viscosity(gdot, prm[BINGHAM.viscosity], prm[BINGHAM.yield_stress], prm[BINGHAM.regularisation_time])
-    yield_fluid_stress(s, L, eos_pressure(prm, rho), mu, prm[EOS.shear_modulus], dt)
+    G = prm[EOS.shear_modulus]
+    if G > 0.0:  # elasto-viscoplastic: the ideal yield surface, no regularisation needed
+        evp_yield_stress(s, L, eos_pressure(prm, rho), dt, G, prm[BINGHAM.yield_stress], prm[BINGHAM.viscosity], 1.0)
+    else:
+        mu = bingham_viscosity(gdot, prm[BINGHAM.viscosity], prm[BINGHAM.yield_stress],
+                               prm[BINGHAM.regularisation_time])
+        set_fluid_stress(s, L, eos_pressure(prm, rho), mu)
     state[0] = gdot
 
 

@@ -78,3 +78,53 @@ def yield_fluid_stress(s, L, P, mu, G, dt):
         evp_fluid_stress(s, L, P, mu, G, dt)
     else:
         set_fluid_stress(s, L, P, mu)
+
+
+@njit(cache=True, inline="always")
+def evp_yield_stress(s, L, P, dt, G, tau_y, K, n):
+    """Elasto-viscoplastic update with a yield surface, for Bingham (n = 1) and Herschel-Bulkley fluids:
+    s <- -P I + tau_{n+1} (Voigt, in place).
+
+    Trial deviator tau_tr = tau_n^J + 2 G D' dt (tau_n^J the Jaumann-rotated deviator of s_n), its
+    equivalent shear stress q_tr = sqrt(tau_tr : tau_tr / 2) (= |tau_xy| in simple shear).  If
+    q_tr <= tau_y the step is elastic, tau = tau_tr: below yield the fluid is a solid of modulus G and
+    does not creep.  Beyond it the plastic shear rate gp solves the flow rule on the returned stress,
+    q = q_tr - G dt gp = tau_y + K gp^n (Bingham: gp = (q_tr - tau_y) / (G dt + K) in closed form;
+    Herschel-Bulkley by bisection), and tau = tau_tr q / q_tr: the return mapping of
+    elasto-viscoplastic yield-stress fluids in MPM (Yue et al. 2015, ACM TOG 34(5):160).  Returns gp."""
+    jz = jaumann_increment(s, L, dt)
+    r0, r1, r2 = s[0] + jz[0], s[1] + jz[1], s[2] + jz[2]
+    m = (r0 + r1 + r2) / 3.0
+    tr3 = (L[0, 0] + L[1, 1] + L[2, 2]) / 3.0
+    g2 = 2.0 * G * dt
+    t0 = r0 - m + g2 * (L[0, 0] - tr3)
+    t1 = r1 - m + g2 * (L[1, 1] - tr3)
+    t2 = r2 - m + g2 * (L[2, 2] - tr3)
+    t3 = s[3] + jz[3] + G * dt * (L[0, 1] + L[1, 0])
+    t4 = s[4] + jz[4] + G * dt * (L[1, 2] + L[2, 1])
+    t5 = s[5] + jz[5] + G * dt * (L[0, 2] + L[2, 0])
+    q_tr = math.sqrt(0.5 * (t0 * t0 + t1 * t1 + t2 * t2) + t3 * t3 + t4 * t4 + t5 * t5)
+    gp = 0.0
+    scale = 1.0
+    if q_tr > tau_y:
+        gdt = G * dt
+        if n == 1.0:
+            gp = (q_tr - tau_y) / (gdt + K)
+        else:
+            hi = (q_tr - tau_y) / gdt  # f(hi) >= 0 > f(0): the root lies in [0, hi]
+            lo = 0.0
+            for _ in range(64):  # bisection: f is monotone, and Newton cycles on n < 1 (infinite slope at 0)
+                gp = 0.5 * (lo + hi)
+                if tau_y + K * gp ** n + gdt * gp > q_tr:
+                    hi = gp
+                else:
+                    lo = gp
+            gp = 0.5 * (lo + hi)
+        scale = (q_tr - gdt * gp) / q_tr
+    s[0] = scale * t0 - P
+    s[1] = scale * t1 - P
+    s[2] = scale * t2 - P
+    s[3] = scale * t3
+    s[4] = scale * t4
+    s[5] = scale * t5
+    return gp

@@ -28,7 +28,7 @@ from numba import njit
 from pydantic import Field, model_validator
 
 from ..layout import param_layout
-from .fluid import shear_rate, yield_fluid_stress
+from .fluid import evp_yield_stress, set_fluid_stress, shear_rate
 from .tait import EOS, YieldFluid, YieldFluidParams, eos_pressure
 
 #: packed parameters: EOS, K [Pa s^n], n [-], tau_y [Pa], M [s], mu_max [Pa s] (inf: no cap)
@@ -75,9 +75,15 @@ def hb_viscosity(gdot, K, n, tau_y, M, mu_max):
 def hb_stress(prm, dt, L, rho, s, state):
     """One particle's Herschel-Bulkley stress; s (6,) and state (2,) in place."""
     gdot = shear_rate(L)
-    mu = hb_viscosity(gdot, prm[HB.consistency], prm[HB.flow_index], prm[HB.yield_stress],
-                      prm[HB.regularisation_time], prm[HB.max_viscosity])
-    yield_fluid_stress(s, L, eos_pressure(prm, rho), mu, prm[HB.shear_modulus], dt)
+    G = prm[HB.shear_modulus]
+    P = eos_pressure(prm, rho)
+    if G > 0.0:  # elasto-viscoplastic: the ideal yield surface, no regularisation or cap needed
+        gp = evp_yield_stress(s, L, P, dt, G, prm[HB.yield_stress], prm[HB.consistency], prm[HB.flow_index])
+        mu = (prm[HB.yield_stress] + prm[HB.consistency] * gp ** prm[HB.flow_index]) / gp if gp > 0.0 else math.inf
+    else:
+        mu = hb_viscosity(gdot, prm[HB.consistency], prm[HB.flow_index], prm[HB.yield_stress],
+                          prm[HB.regularisation_time], prm[HB.max_viscosity])
+        set_fluid_stress(s, L, P, mu)
     state[0] = gdot
     state[1] = mu
 
