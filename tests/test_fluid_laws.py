@@ -84,3 +84,28 @@ def test_tait_pressure_at_small_compression(cls):
     P = rho0 * c * c / r * (1.001 ** r - 1)
     np.testing.assert_allclose(stress[0, :3], -P, rtol=1e-12)
     assert mat.wave_speed(np.array([rho0 * 1.001])) == pytest.approx(c * 1.001 ** ((r - 1) / 2), rel=1e-12)
+
+
+def test_cross_elastoviscoplastic_steady_shear_is_the_viscous_law():
+    """Cross under the elasto-viscoplastic integration (Maxwell relaxation, fluid.evp_fluid_stress): at a
+    constant shear rate the stress converges to mu_eff(gamma_dot) gamma_dot (eq. 6) within 1 % from
+    1e-3 to 1e3 s^-1 with G = 1e8 Pa (tau / G <= 1e-3), and the first step from rest is elastic,
+    G gamma_dot dt / (1 + G dt / mu)."""
+    p = Cross.Params(density=2650.0, viscosity_zero=500.0, viscosity_infinity=0.5, time_constant=2.0,
+                     sound_speed=30.0, integration="elastoviscoplastic", shear_modulus=1e8)
+    mat = Cross(p)
+    assert mat.kinematic_viscosity() == 0.0
+    for rate in (1e-3, 1e-1, 10.0, 1e3):
+        mu = (500.0 + (2.0 * rate) * 0.5) / (1 + 2.0 * rate)
+        L = np.zeros((1, 3, 3))
+        L[0, 0, 1] = rate
+        stress, state = np.zeros((1, 6)), mat.initial_state(1)
+        for _ in range(60):
+            mat.update_stress(mu / 1e8, L, np.full(1, 2650.0), stress, state)  # dt = lambda
+        assert stress[0, 3] == pytest.approx(mu * rate, rel=0.01), rate
+    L = np.zeros((1, 3, 3))
+    L[0, 0, 1] = 1.0
+    stress = np.zeros((1, 6))
+    mat.update_stress(1e-9, L, np.full(1, 2650.0), stress, mat.initial_state(1))
+    mu = (500.0 + 2.0 * 0.5) / 3.0
+    assert stress[0, 3] == pytest.approx(1e8 * 1e-9 / (1 + 1e8 * 1e-9 / mu), rel=1e-9)

@@ -23,7 +23,7 @@ from numba import njit
 from pydantic import Field, model_validator
 
 from ..plugin import Params
-from .fluid import shear_rate, yield_fluid_stress
+from .fluid import evp_fluid_stress, set_fluid_stress, shear_rate
 from ..layout import param_layout
 from .tait import EOS, YieldFluid, YieldFluidParams, eos_pressure
 
@@ -74,7 +74,11 @@ def cross_stress(prm, dt, L, rho, s, state):
     gdot = shear_rate(L)
     mu = cross_viscosity(gdot, prm[CROSS.viscosity_zero], prm[CROSS.viscosity_infinity], prm[CROSS.time_constant],
                          prm[CROSS.rate_exponent])
-    yield_fluid_stress(s, L, eos_pressure(prm, rho), mu, prm[EOS.shear_modulus], dt)
+    G = prm[EOS.shear_modulus]
+    if G > 0.0:  # elasto-viscoplastic: Maxwell relaxation (Cross has no yield surface)
+        evp_fluid_stress(s, L, eos_pressure(prm, rho), mu, G, dt)
+    else:
+        set_fluid_stress(s, L, eos_pressure(prm, rho), mu)
     state[0] = gdot
     state[1] = mu
 

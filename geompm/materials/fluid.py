@@ -41,43 +41,40 @@ def set_fluid_stress(s, L, P, mu):
 
 
 @njit(cache=True, inline="always")
-def evp_fluid_stress(s, L, P, mu, G, dt):
-    """Elasto-viscoplastic update of one particle: s <- -P I + tau_{n+1} (Voigt, in place), with
-
-        tau_{n+1} = (tau_n^J + 2 G D' dt) / (1 + G dt / mu),
-
-    the backward-Euler step of the Maxwell model dtau/dt = 2 G D' - (G / mu) tau (tau_n^J the
-    Jaumann-rotated deviator of s_n, mu = mu_eff(gamma_dot) of the law at the current rate).  It is
-    stable at any dt; its steady state under a constant rate is tau = 2 mu D', the viscous law; below
-    yield (mu large, relaxation time mu / G long) the fluid is an elastic solid of shear modulus G.
-    The elasto-viscoplastic form of yield-stress fluids in MPM: Yue et al. 2015, ACM TOG 34(5):160."""
+def evp_trial(s, L, dt, G):
+    """The elastic trial deviator tau_n^J + 2 G D' dt as a Voigt 6-tuple (tau_n^J the Jaumann-rotated
+    deviator of s)."""
     jz = jaumann_increment(s, L, dt)
     r0, r1, r2 = s[0] + jz[0], s[1] + jz[1], s[2] + jz[2]
     m = (r0 + r1 + r2) / 3.0
     tr3 = (L[0, 0] + L[1, 1] + L[2, 2]) / 3.0
-    k = 1.0 / (1.0 + G * dt / mu) if mu > 0.0 else 0.0
     g2 = 2.0 * G * dt
-    s0 = k * (r0 - m + g2 * (L[0, 0] - tr3))
-    s1 = k * (r1 - m + g2 * (L[1, 1] - tr3))
-    s2 = k * (r2 - m + g2 * (L[2, 2] - tr3))
-    s3 = k * (s[3] + jz[3] + G * dt * (L[0, 1] + L[1, 0]))
-    s4 = k * (s[4] + jz[4] + G * dt * (L[1, 2] + L[2, 1]))
-    s5 = k * (s[5] + jz[5] + G * dt * (L[0, 2] + L[2, 0]))
-    s[0] = s0 - P
-    s[1] = s1 - P
-    s[2] = s2 - P
-    s[3] = s3
-    s[4] = s4
-    s[5] = s5
+    return (r0 - m + g2 * (L[0, 0] - tr3), r1 - m + g2 * (L[1, 1] - tr3), r2 - m + g2 * (L[2, 2] - tr3),
+            s[3] + jz[3] + G * dt * (L[0, 1] + L[1, 0]), s[4] + jz[4] + G * dt * (L[1, 2] + L[2, 1]),
+            s[5] + jz[5] + G * dt * (L[0, 2] + L[2, 0]))
 
 
 @njit(cache=True, inline="always")
-def yield_fluid_stress(s, L, P, mu, G, dt):
-    """The explicit viscous stress (G = 0) or the elasto-viscoplastic update (G > 0)."""
-    if G > 0.0:
-        evp_fluid_stress(s, L, P, mu, G, dt)
-    else:
-        set_fluid_stress(s, L, P, mu)
+def set_scaled_trial(s, t, scale, P):
+    """s <- -P I + scale * t (Voigt, in place), t a deviator 6-tuple."""
+    s[0] = scale * t[0] - P
+    s[1] = scale * t[1] - P
+    s[2] = scale * t[2] - P
+    s[3] = scale * t[3]
+    s[4] = scale * t[4]
+    s[5] = scale * t[5]
+
+
+@njit(cache=True, inline="always")
+def evp_fluid_stress(s, L, P, mu, G, dt):
+    """Elasto-viscoplastic update of one particle without a yield surface (Cross): s <- -P I + tau_{n+1},
+
+        tau_{n+1} = (tau_n^J + 2 G D' dt) / (1 + G dt / mu),
+
+    the backward-Euler step of the Maxwell model dtau/dt = 2 G D' - (G / mu) tau (mu = mu_eff(gamma_dot)
+    of the law at the current rate).  It is stable at any dt; its steady state under a constant rate is
+    tau = 2 mu D', the viscous law (Yue et al. 2015, ACM TOG 34(5):160)."""
+    set_scaled_trial(s, evp_trial(s, L, dt, G), 1.0 / (1.0 + G * dt / mu) if mu > 0.0 else 0.0, P)
 
 
 @njit(cache=True, inline="always")
@@ -92,17 +89,8 @@ def evp_yield_stress(s, L, P, dt, G, tau_y, K, n):
     q = q_tr - G dt gp = tau_y + K gp^n (Bingham: gp = (q_tr - tau_y) / (G dt + K) in closed form;
     Herschel-Bulkley by bisection), and tau = tau_tr q / q_tr: the return mapping of
     elasto-viscoplastic yield-stress fluids in MPM (Yue et al. 2015, ACM TOG 34(5):160).  Returns gp."""
-    jz = jaumann_increment(s, L, dt)
-    r0, r1, r2 = s[0] + jz[0], s[1] + jz[1], s[2] + jz[2]
-    m = (r0 + r1 + r2) / 3.0
-    tr3 = (L[0, 0] + L[1, 1] + L[2, 2]) / 3.0
-    g2 = 2.0 * G * dt
-    t0 = r0 - m + g2 * (L[0, 0] - tr3)
-    t1 = r1 - m + g2 * (L[1, 1] - tr3)
-    t2 = r2 - m + g2 * (L[2, 2] - tr3)
-    t3 = s[3] + jz[3] + G * dt * (L[0, 1] + L[1, 0])
-    t4 = s[4] + jz[4] + G * dt * (L[1, 2] + L[2, 1])
-    t5 = s[5] + jz[5] + G * dt * (L[0, 2] + L[2, 0])
+    t = evp_trial(s, L, dt, G)
+    t0, t1, t2, t3, t4, t5 = t
     q_tr = math.sqrt(0.5 * (t0 * t0 + t1 * t1 + t2 * t2) + t3 * t3 + t4 * t4 + t5 * t5)
     gp = 0.0
     scale = 1.0
@@ -121,10 +109,5 @@ def evp_yield_stress(s, L, P, dt, G, tau_y, K, n):
                     lo = gp
             gp = 0.5 * (lo + hi)
         scale = (q_tr - gdt * gp) / q_tr
-    s[0] = scale * t0 - P
-    s[1] = scale * t1 - P
-    s[2] = scale * t2 - P
-    s[3] = scale * t3
-    s[4] = scale * t4
-    s[5] = scale * t5
+    set_scaled_trial(s, t, scale, P)
     return gp

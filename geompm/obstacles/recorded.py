@@ -33,6 +33,7 @@ class ContactForceStage(GridStage, ParticleStage):
     phase = OBSTACLE_PHASE
     node_reduction = FORCE_SLOTS
     particle_reduction = DEPTH + 1
+    kind = "obstacle"  # how the run's summary names it
     #: the surface's prescribed velocity [m/s] (zeros: at rest)
     vel: np.ndarray
 
@@ -102,7 +103,7 @@ class ContactForceStage(GridStage, ParticleStage):
         unit = "N" if self.dim == 3 else "N/m"
         guard = (f"; {self.particles_put_back} particle corrections by the guard (deepest {self.max_depth:.3g} m "
                  f"= {self.max_depth / self.grid.h:.2f} h before correction)" if self.particles_put_back else "")
-        return f"obstacle '{self.label}': peak force {self.peak[0]:.4g} {unit} at t = {self.peak[1]:.4g} s{guard}"
+        return f"{self.kind} '{self.label}': peak force {self.peak[0]:.4g} {unit} at t = {self.peak[1]:.4g} s{guard}"
 
     def state_dict(self) -> dict:
         return {"peak": list(self.peak), "force": self.force.tolist(), "fn": float(self.fn), "ft": float(self.ft),

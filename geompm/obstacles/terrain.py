@@ -139,6 +139,7 @@ class Terrain(ContactForceStage):
     node_scratch = 12
     particle_rule = terrain_guard_rule
     particle_scratch = 12
+    kind = "terrain"
 
     @classmethod
     def check(cls, params, case):
@@ -196,9 +197,6 @@ class Terrain(ContactForceStage):
 
     def particle_args(self, dt, time):
         return self.prm, self.dem.z
-
-    def summary(self) -> str:
-        return super().summary().replace("obstacle '", "terrain '", 1)
 
 
 def _same_crs(case_crs, dem_crs):
