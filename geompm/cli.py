@@ -68,9 +68,25 @@ def cmd_validate(args) -> int:
     if not dt >= scene.dt_min:
         print(f"warning: the first time step is below time.dt_min = {scene.dt_min:g} s: `geompm run` would stop "
               "before the first step (exit 3); the wave speed sqrt(E/rho), the viscosity and time.cfl set it")
+    _step_limits(scene)
     _viscous_warning(loaded, scene, print)
     _stage_warnings(scene, print, loaded)
     return 0
+
+
+def _step_limits(scene) -> None:
+    """Which limit sets the step, and what each material's other integration would make of it (the
+    viscous warning repeats those when viscosity governs)."""
+    from .engine.estimate import step_report
+
+    if scene.dt_fixed is not None:
+        print(f"the time step is fixed: time.dt = {scene.dt_fixed:g} s")
+        return
+    rep = step_report(scene)
+    print(rep.governing())
+    if not rep.viscous_governs:
+        for alt in rep.alternatives:
+            print(alt.sentence(rep.dt, scene.end_time))
 
 
 def _stage_warnings(scene, emit, loaded=None) -> None:

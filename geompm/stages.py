@@ -67,6 +67,15 @@ class Stage(Plugin):
         """(largest |F| [N, N/m in 2D], its time [s]) for stages that take a force, else None."""
         return None
 
+    def surface(self):
+        """The stage's rigid surface for output (obstacles/tessellate.Surface, in the case's frame at t = 0),
+        or None for a stage without one (damping, periodic)."""
+        return None
+
+    def surface_shift(self, time: float):
+        """Displacement [m] of the surface at ``time`` (a prescribed velocity), or None if it does not move."""
+        return None
+
     def state_dict(self) -> dict:
         return {}
 

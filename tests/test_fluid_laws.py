@@ -87,7 +87,7 @@ def test_tait_pressure_at_small_compression(cls):
 
 
 def test_cross_elastoviscoplastic_steady_shear_is_the_viscous_law():
-    """Cross under the elasto-viscoplastic integration (Maxwell relaxation, fluid.evp_fluid_stress): at a
+    """Cross under the elasto-viscoplastic integration (Maxwell relaxation at the viscous rate, cross.evp_cross_stress): at a
     constant shear rate the stress converges to mu_eff(gamma_dot) gamma_dot (eq. 6) within 1 % from
     1e-3 to 1e3 s^-1 with G = 1e8 Pa (tau / G <= 1e-3), and the first step from rest is elastic,
     G gamma_dot dt / (1 + G dt / mu)."""
@@ -103,9 +103,31 @@ def test_cross_elastoviscoplastic_steady_shear_is_the_viscous_law():
         for _ in range(60):
             mat.update_stress(mu / 1e8, L, np.full(1, 2650.0), stress, state)  # dt = lambda
         assert stress[0, 3] == pytest.approx(mu * rate, rel=0.01), rate
+    # the first step from rest, dt = 1e-6 s (G dt = 100 Pa s): the trial q_tr = G gamma_dot dt = 100 Pa is
+    # returned along q = q_tr - G dt gp with the viscosity at the viscous rate gp, q = mu_eff(gp) gp
+    # (gp = 0.2248 1/s, q = 77.5 Pa); the viscosity at the total rate would give 100 / (1 + 100 / 167) = 62.5 Pa
     L = np.zeros((1, 3, 3))
     L[0, 0, 1] = 1.0
-    stress = np.zeros((1, 6))
-    mat.update_stress(1e-9, L, np.full(1, 2650.0), stress, mat.initial_state(1))
-    mu = (500.0 + 2.0 * 0.5) / 3.0
-    assert stress[0, 3] == pytest.approx(1e8 * 1e-9 / (1 + 1e8 * 1e-9 / mu), rel=1e-9)
+    stress, state = np.zeros((1, 6)), mat.initial_state(1)
+    mat.update_stress(1e-6, L, np.full(1, 2650.0), stress, state)
+    tau = stress[0, 3]
+    gp = (100.0 - tau) / 100.0
+    assert tau == pytest.approx(gp * (500.0 + 2.0 * gp * 0.5) / (1.0 + 2.0 * gp), rel=1e-9)
+    assert tau == pytest.approx(77.5, abs=0.1) and state[0, 1] == pytest.approx(tau / gp, rel=1e-9)
+
+
+def test_cross_elastoviscoplastic_return_for_m_not_one():
+    """m = 0.5 takes the bisection branch of cross.cross_plastic_rate: one step from rest, dt = 1e-6 s,
+    G = 1e8 Pa, gamma_dot = 1 1/s, must satisfy both q = q_tr - G dt gp and q = mu_eff(gp) gp (eq. 6) to
+    1e-9, and 0 < q < q_tr = 100 Pa."""
+    p = Cross.Params(density=2650.0, viscosity_zero=500.0, viscosity_infinity=0.5, time_constant=2.0,
+                     rate_exponent=0.5, sound_speed=30.0, integration="elastoviscoplastic", shear_modulus=1e8)
+    L = np.zeros((1, 3, 3))
+    L[0, 0, 1] = 1.0
+    stress, state = np.zeros((1, 6)), Cross(p).initial_state(1)
+    Cross(p).update_stress(1e-6, L, np.full(1, 2650.0), stress, state)
+    tau = stress[0, 3]
+    gp = (100.0 - tau) / 100.0
+    x = (2.0 * gp) ** 0.5
+    assert 0.0 < tau < 100.0
+    assert tau == pytest.approx(gp * (500.0 + x * 0.5) / (1.0 + x), rel=1e-9)

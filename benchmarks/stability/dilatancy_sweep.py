@@ -25,7 +25,6 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
 
 from geompm.api import scene_from_dict
 from geompm.engine.health import HealthCheck

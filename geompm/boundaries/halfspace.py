@@ -69,6 +69,16 @@ class HalfSpace(GridStage, ParticleStage):
         values.update(condition=CONDITIONS[self.params.condition], mu=self.params.friction, layer=self.layer)
         self.prm = pack_in_layout(HALFSPACE, values, f"stage '{self.label}'")
 
+    def setup(self, scene):
+        self.grid = scene.grid
+
+    def surface(self):
+        """The plane clipped to the grid's box (a segment in 2D)."""
+        from ..obstacles.tessellate import plane_surface
+
+        g = self.grid
+        return plane_surface(self.point, self.normal, g.origin, g.upper, g.h)
+
     def grid_args(self, dt, time, remap):
         return self.prm, NO_AUX
 

@@ -54,6 +54,7 @@ class Plane(HalfSpace):
         return vector_length_problems(params, case, ("point", "normal"))
 
     def setup(self, scene):
+        super().setup(scene)
         n = np.asarray(self.params.normal, dtype=float)
         self.normal = n / np.linalg.norm(n)
         self.point = np.asarray(self.params.point, dtype=float)

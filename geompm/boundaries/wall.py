@@ -42,6 +42,7 @@ class Wall(HalfSpace):
         return []
 
     def setup(self, scene):
+        super().setup(scene)
         axis = SIDES.index(self.params.side) // 2
         minus = self.params.side.endswith("-")
         n = int(scene.grid.ncells[axis])

@@ -29,19 +29,28 @@ from ..kernels.reduce import max_rate, max_speed
 STRAIN_INCREMENT = 0.25
 
 
-def wave_speed(scene, state, finite_only: bool = False) -> float:
+def wave_speed(scene, state, finite_only: bool = False, materials=None) -> float:
     """Largest material wave speed c_p over the particles [m/s], each block through its law's loop
     (backend/cpu_loops.py); ``finite_only`` skips blocks with a non-finite density (a blown-up run's
-    diagnosis)."""
+    diagnosis); ``materials`` replaces the scene's laws block by block (the time-step report's other
+    integrations, estimate.py)."""
     import numpy as np
 
-    return max((mat.wave_speed(state.p_rho[s:e]) for mat, (s, e) in zip(scene.materials, state.blocks)
+    mats = scene.materials if materials is None else materials
+    return max((mat.wave_speed(state.p_rho[s:e]) for mat, (s, e) in zip(mats, state.blocks)
                 if e > s and (not finite_only or np.isfinite(state.p_rho[s:e]).all())), default=0.0)
 
 
-def viscous_limit(scene) -> float:
-    """h^2 / (2 d nu_max) [s], infinite without viscosity."""
-    return scene.grid.h ** 2 / (2 * scene.dim * scene.nu_max) if scene.nu_max > 0.0 else float("inf")
+def wave_limit(scene, state, materials=None) -> float:
+    """The CFL step cfl h / max_p(c_p + |v_p|) [s], infinite at rest in a material without waves."""
+    speed = wave_speed(scene, state, materials=materials) + (max_speed(state.p_v) if state.n else 0.0)
+    return scene.cfl * scene.grid.h / speed if speed > 0.0 else float("inf")
+
+
+def viscous_limit(scene, materials=None) -> float:
+    """h^2 / (2 d nu_max) [s], infinite without viscosity (``materials`` as in ``wave_speed``)."""
+    nu = scene.nu_max if materials is None else max((m.kinematic_viscosity() for m in materials), default=0.0)
+    return scene.grid.h ** 2 / (2 * scene.dim * nu) if nu > 0.0 else float("inf")
 
 
 def stable_dt(scene, state, rate: float | None = None) -> float:
@@ -49,9 +58,7 @@ def stable_dt(scene, state, rate: float | None = None) -> float:
     stress loop finds it as a by-product); otherwise it is taken from the particles."""
     if scene.dt_fixed is not None:
         return scene.dt_fixed
-    speed = wave_speed(scene, state) + (max_speed(state.p_v) if state.n else 0.0)
-    dt = scene.cfl * scene.grid.h / speed if speed > 0.0 else float("inf")
-    dt = min(dt, viscous_limit(scene))
+    dt = min(wave_limit(scene, state), viscous_limit(scene))
     if rate is None:
         rate = max_rate(state.p_L) if state.n else 0.0
     if rate > 0.0:

@@ -79,6 +79,12 @@ class Material(Plugin):
     def kinematic_viscosity(self) -> float:
         return 0.0
 
+    def alternatives(self) -> list[tuple[str, "Material"]]:
+        """The same law under another integration, as (the JSON setting that selects it, the law so
+        set): `geompm validate` reports the time step each would take (engine/estimate.py).  None by
+        default; the yield-stress fluids offer the other of explicit and elasto-viscoplastic."""
+        return []
+
     def warnings(self) -> list[str]:
         """What `geompm validate` and `geompm run` should warn about this law's parameters, each a
         full sentence (the caller names the material's JSON path)."""

@@ -19,11 +19,13 @@ dt <= rho h^2 / (2 d mu_0), which is small: see docs/materials.md.
 
 from __future__ import annotations
 
+import math
+
 from numba import njit
 from pydantic import Field, model_validator
 
 from ..plugin import Params
-from .fluid import evp_fluid_stress, set_fluid_stress, shear_rate
+from .fluid import equivalent_shear, evp_trial, set_fluid_stress, set_scaled_trial, shear_rate
 from ..layout import param_layout
 from .tait import EOS, YieldFluid, YieldFluidParams, eos_pressure
 
@@ -68,16 +70,59 @@ def cross_viscosity(gdot, mu0, mu_inf, A, m):
     return (mu0 + x * mu_inf) / (1.0 + x)
 
 
+@njit(cache=True, inline="always")
+def cross_plastic_rate(q_tr, gdt, mu0, mu_inf, A, m):
+    """The viscous shear rate gp [1/s] of the elasto-viscoplastic return, the root of
+    q_tr - G dt gp = mu_eff(gp) gp: the viscosity is taken at the rate of the viscous element, not at
+    the total rate, so that a particle loading elastically (gp << gamma_dot) keeps mu_0.  m = 1 (the
+    source's mapping) gives a quadratic, A (G dt + mu_inf) gp^2 + (G dt + mu_0 - A q_tr) gp - q_tr = 0,
+    solved in the cancellation-free form; other m by bisection on [0, q_tr / (G dt)]."""
+    if m == 1.0:
+        a = A * (gdt + mu_inf)
+        b = gdt + mu0 - A * q_tr
+        disc = math.sqrt(b * b + 4.0 * a * q_tr)
+        return 2.0 * q_tr / (b + disc) if b > 0.0 else (disc - b) / (2.0 * a)
+    lo = 0.0
+    hi = q_tr / gdt
+    for _ in range(64):
+        gp = 0.5 * (lo + hi)
+        if gdt * gp + cross_viscosity(gp, mu0, mu_inf, A, m) * gp > q_tr:
+            hi = gp
+        else:
+            lo = gp
+    return 0.5 * (lo + hi)
+
+
+@njit(cache=True, inline="always")
+def evp_cross_stress(s, L, P, dt, G, mu0, mu_inf, A, m):
+    """Elasto-viscoplastic Cross update, s <- -P I + tau_tr (q_tr - G dt gp) / q_tr (Voigt, in place), the
+    backward-Euler step of the Maxwell model dtau/dt = 2 G D' - (G / mu_eff(gp)) tau with the viscosity at
+    the viscous rate gp (cross_plastic_rate); for a constant mu it is tau_tr / (1 + G dt / mu), and its
+    steady state under a constant rate is the viscous law tau = 2 mu_eff D' (Yue et al. 2015, ACM TOG
+    34(5):160).  Returns gp."""
+    t = evp_trial(s, L, dt, G)
+    q_tr = equivalent_shear(t)
+    if q_tr <= 0.0:
+        set_scaled_trial(s, t, 1.0, P)
+        return 0.0
+    gdt = G * dt
+    gp = cross_plastic_rate(q_tr, gdt, mu0, mu_inf, A, m)
+    set_scaled_trial(s, t, (q_tr - gdt * gp) / q_tr, P)
+    return gp
+
+
 @njit(fastmath=True, cache=True)
 def cross_stress(prm, dt, L, rho, s, state):
     """One particle's Cross stress (eq. 6); s (6,) and state (2,) in place."""
     gdot = shear_rate(L)
-    mu = cross_viscosity(gdot, prm[CROSS.viscosity_zero], prm[CROSS.viscosity_infinity], prm[CROSS.time_constant],
+    mu0, mu_inf, A, m = (prm[CROSS.viscosity_zero], prm[CROSS.viscosity_infinity], prm[CROSS.time_constant],
                          prm[CROSS.rate_exponent])
     G = prm[EOS.shear_modulus]
-    if G > 0.0:  # elasto-viscoplastic: Maxwell relaxation (Cross has no yield surface)
-        evp_fluid_stress(s, L, eos_pressure(prm, rho), mu, G, dt)
+    if G > 0.0:  # elasto-viscoplastic: Maxwell relaxation at the viscous rate (Cross has no yield surface)
+        gp = evp_cross_stress(s, L, eos_pressure(prm, rho), dt, G, mu0, mu_inf, A, m)
+        mu = cross_viscosity(gp, mu0, mu_inf, A, m)
     else:
+        mu = cross_viscosity(gdot, mu0, mu_inf, A, m)
         set_fluid_stress(s, L, eos_pressure(prm, rho), mu)
     state[0] = gdot
     state[1] = mu

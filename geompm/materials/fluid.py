@@ -66,15 +66,9 @@ def set_scaled_trial(s, t, scale, P):
 
 
 @njit(cache=True, inline="always")
-def evp_fluid_stress(s, L, P, mu, G, dt):
-    """Elasto-viscoplastic update of one particle without a yield surface (Cross): s <- -P I + tau_{n+1},
-
-        tau_{n+1} = (tau_n^J + 2 G D' dt) / (1 + G dt / mu),
-
-    the backward-Euler step of the Maxwell model dtau/dt = 2 G D' - (G / mu) tau (mu = mu_eff(gamma_dot)
-    of the law at the current rate).  It is stable at any dt; its steady state under a constant rate is
-    tau = 2 mu D', the viscous law (Yue et al. 2015, ACM TOG 34(5):160)."""
-    set_scaled_trial(s, evp_trial(s, L, dt, G), 1.0 / (1.0 + G * dt / mu) if mu > 0.0 else 0.0, P)
+def equivalent_shear(t):
+    """sqrt(t : t / 2) of a deviator 6-tuple t (= |t_xy| in simple shear) [Pa]."""
+    return math.sqrt(0.5 * (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]) + t[3] * t[3] + t[4] * t[4] + t[5] * t[5])
 
 
 @njit(cache=True, inline="always")
@@ -90,8 +84,7 @@ def evp_yield_stress(s, L, P, dt, G, tau_y, K, n):
     Herschel-Bulkley by bisection), and tau = tau_tr q / q_tr: the return mapping of
     elasto-viscoplastic yield-stress fluids in MPM (Yue et al. 2015, ACM TOG 34(5):160).  Returns gp."""
     t = evp_trial(s, L, dt, G)
-    t0, t1, t2, t3, t4, t5 = t
-    q_tr = math.sqrt(0.5 * (t0 * t0 + t1 * t1 + t2 * t2) + t3 * t3 + t4 * t4 + t5 * t5)
+    q_tr = equivalent_shear(t)
     gp = 0.0
     scale = 1.0
     if q_tr > tau_y:

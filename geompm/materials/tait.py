@@ -106,6 +106,11 @@ class YieldFluid(TaitFluid):
         """The largest effective viscosity the law takes [Pa s]."""
         raise NotImplementedError
 
+    def alternatives(self):
+        """The law under the other integration (the time-step report of `geompm validate`)."""
+        other = "explicit" if self.params.integration == "elastoviscoplastic" else "elastoviscoplastic"
+        return [(f'"integration": "{other}"', type(self)(self.params.model_copy(update={"integration": other})))]
+
     def kinematic_viscosity(self) -> float:
         """nu [m2/s] of the explicit viscous limit; 0 under the elasto-viscoplastic integration, whose
         implicit Maxwell relaxation is stable at any step (fluid.py)."""

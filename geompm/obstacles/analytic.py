@@ -16,6 +16,7 @@ from pydantic import Field
 
 from ..plugin import vector_length_problems
 from .base import ObstacleParams, RigidObstacle
+from .tessellate import box_surface, cylinder_surface, sphere_surface
 
 
 class BoxParams(ObstacleParams):
@@ -48,6 +49,9 @@ class BoxObstacle(RigidObstacle):
     def bounds(self):
         return np.asarray(self.params.min, float), np.asarray(self.params.max, float)
 
+    def surface(self):
+        return box_surface(*self.bounds(), self.grid.h)
+
     def thinnest(self):
         lo, hi = self.bounds()
         return float((hi - lo).min())
@@ -76,6 +80,9 @@ class SphereObstacle(RigidObstacle):
 
     def thinnest(self):
         return 2.0 * self.params.radius
+
+    def surface(self):
+        return sphere_surface(self.params.center, self.params.radius, self.grid.h)
 
     def signed_distance(self, pts):
         return np.linalg.norm(pts - np.asarray(self.params.center, float), axis=1) - self.params.radius
@@ -112,6 +119,12 @@ class CylinderObstacle(SphereObstacle):
     def thinnest(self):
         d = 2.0 * self.params.radius
         return d if self.dim == 2 else min(d, self.params.length)
+
+    def surface(self):
+        if self.dim == 2:
+            return super().surface()
+        p = self.params
+        return cylinder_surface(p.center, p.radius, p.axis, p.length, self.grid.h)
 
     def signed_distance(self, pts):
         if pts.shape[1] == 2:

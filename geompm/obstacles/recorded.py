@@ -86,6 +86,9 @@ class ContactForceStage(GridStage, ParticleStage):
     def supplied_speed(self) -> float:
         return float(np.linalg.norm(self.vel))
 
+    def surface_shift(self, time):
+        return self.vel * time if self.vel.any() else None
+
     def peak_force(self):
         return self.peak
 

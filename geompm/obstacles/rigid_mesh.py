@@ -54,6 +54,11 @@ class RigidMesh(RigidObstacle):
         self.mesh = mesh
         super().setup(scene)
 
+    def surface(self):
+        from .tessellate import refine_triangles
+
+        return refine_triangles(self.mesh.vertices, self.mesh.faces, self.grid.h)
+
     def bounds(self):
         lo, hi = self.mesh.bounds
         return np.asarray(lo, float), np.asarray(hi, float)

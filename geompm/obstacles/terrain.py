@@ -189,6 +189,14 @@ class Terrain(ContactForceStage):
         self.box = (np.full(3, -FAR_NODE, np.int64), np.full(3, FAR_NODE, np.int64))
         self.box[1][2] = int(math.floor((top - g.origin[2]) / g.h)) + 1  # no node above the highest ground
 
+    def surface(self):
+        """Two triangles per DEM cell, vertices at the pixel centres (the heights the contact interpolates)."""
+        from .tessellate import heightfield_surface
+
+        d = self.dem
+        nx, ny = d.z.shape
+        return heightfield_surface(d.x0 + d.dx * np.arange(nx), d.y0 + d.dy * np.arange(ny), d.z)
+
     def grid_args(self, dt, time, remap):
         return self.prm, self.dem.z
 

@@ -56,6 +56,29 @@ SOIL = [  # (label, overrides): end times keep each run to a few thousand steps
 ]
 
 
+def evp(model: str, **law) -> dict:
+    """The column as a yield-stress fluid (rho0 2650 kg/m3, c 20 m/s) under the elasto-viscoplastic
+    integration, G = rho0 c^2 / 4 = 265 kPa, over the whole collapse (0.3 s)."""
+    mat = {"model": model, "density": 2650.0, "sound_speed": 20.0, "integration": "elastoviscoplastic", **law}
+    return {"materials.soil": mat, "bodies.0.initial_stress": "none"}
+
+
+def cross_ratio(ratio: float) -> dict:
+    """Cross with mu_inf = 1.2 Pa s, mu_0 = ratio mu_inf, A = mu_0 / tau_B (tau_B = 200 Pa), m = 1."""
+    return evp("cross", viscosity_infinity=1.2, viscosity_zero=1.2 * ratio, time_constant=1.2 * ratio / 200.0)
+
+
+SOIL += [(f"Cross EVP, mu_0 = 1e{k} mu_inf", cross_ratio(10.0 ** k)) for k in range(2, 7)]
+SOIL += [
+    ("Bingham EVP, tau_B = 200 Pa", evp("bingham", viscosity=1.2, yield_stress=200.0)),
+    ("Bingham EVP, tau_B = 1e5 Pa (stands)", evp("bingham", viscosity=1.2, yield_stress=1e5)),
+    ("Herschel-Bulkley EVP, n = 0.5", evp("herschel_bulkley", consistency=5.0, flow_index=0.5, yield_stress=200.0,
+                                          max_viscosity=1e4)),
+    ("Herschel-Bulkley EVP, n = 1.5", evp("herschel_bulkley", consistency=5.0, flow_index=1.5, yield_stress=200.0,
+                                          max_viscosity=1e4)),
+]
+
+
 @pytest.mark.parametrize("label, over", SOIL, ids=[s[0] for s in SOIL])
 def test_stable_at_the_extremes(label, over):
     """Stable by the harness's definition, with the energy bound checked after every step."""
@@ -110,3 +133,27 @@ def test_cross_source_viscosity_reports_time_step_and_remedy(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "set by viscosity: mu = 1.2e+04 Pa s" in out and "5.52e-06 s" in out
     assert "633,962 steps" in out and "on this machine" in out and "Remedies" in out
+
+
+def test_validate_names_the_limit_and_what_the_other_integration_would_take(tmp_path, capsys):
+    """The Cross column under "integration": "elastoviscoplastic": validate says the wave limit sets the
+    step, cfl h / c_P with the P-wave speed c_P = sqrt(c^2 + 4 G / (3 rho0)), G = rho0 c^2 / 4:
+    0.4 * 0.01 / sqrt(400 + 133.3) = 1.732e-4 s, and that the explicit integration would be held to its
+    viscous limit 5.52e-6 s, 31.4x shorter.  For the explicit case the first remedy is the reverse."""
+    import json
+
+    from .harness import ROOT
+
+    case = json.loads((ROOT / "cases" / "column_collapse_cross.json").read_text())
+    case["materials"]["soil"]["integration"] = "elastoviscoplastic"
+    path = tmp_path / "evp.json"
+    path.write_text(json.dumps(case))
+    assert main(["validate", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "set by the wave limit cfl h / (c + |v|) = 0.000173 s (viscous limit: none)" in out
+    assert 'with "integration": "explicit" the step would be 5.52e-06 s, set by the viscous limit (31.4x shorter' in out
+    path.write_text((ROOT / "cases" / "column_collapse_cross.json").read_text())
+    assert main(["validate", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert 'Remedies: (1) materials.soil: with "integration": "elastoviscoplastic" the step would be 0.000173 s' in out
+    assert "(31.4x longer: 20,207 steps" in out

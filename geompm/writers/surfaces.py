@@ -1,0 +1,97 @@
+"""ParaView output of the rigid surfaces: ``surfaces/<label>_NNNNNN.vtu`` per output time plus ``surfaces.pvd``.
+
+Every boundary and obstacle stage that has a surface (Stage.surface: STL and
+analytic obstacles, planes and walls clipped to the grid, the terrain) is
+written in the particles' coordinates, moved by its prescribed velocity
+(Stage.surface_shift), one VTU per stage and output time.  The PVD lists the
+stages of one time as parts of a multiblock, at the same times as
+``particles.pvd``, so ParaView opens the particles and the surfaces side by
+side as one animation.  Cells are triangles in 3D and lines in 2D (the
+outline in the x-y plane, per metre of depth).  Cell data: ``normal`` (3, unit,
+triangles: from the vertex order; lines: the in-plane normal) and
+``stage_id``.  A surface that does not move is written once and listed at
+every time (its file is the same).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from pydantic import Field
+
+from ..fileio import atomic_path, atomic_write_text
+from ..plugin import Params
+from .base import Writer
+
+
+class SurfacesParams(Params):
+    binary: bool = Field(True, description="Binary (zlib-compressed) VTU; false writes ASCII")
+
+
+def cell_normals(surface) -> np.ndarray:
+    """Unit normal [-] of each cell: the right-hand normal of a triangle, (dy, -dx) of a 2D segment."""
+    p = surface.vertices[surface.cells]
+    if surface.kind == "line":
+        t = p[:, 1] - p[:, 0]
+        n = np.stack([t[:, 1], -t[:, 0], np.zeros(len(t))], axis=1)
+    else:
+        n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    return n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+
+
+class SurfacesWriter(Writer):
+    name = "surfaces"
+    description = "ParaView series of every rigid surface (obstacles, planes, walls, terrain): VTU per time and a PVD"
+    Params = SurfacesParams
+
+    def open(self, run_dir, sim):
+        self.dir = run_dir / "surfaces"
+        self.dir.mkdir(parents=True, exist_ok=True)
+        self.pvd = run_dir / "surfaces.pvd"
+        sc = sim.scene
+        self.parts = [(s.label, s, s.surface()) for s in sc.boundaries + sc.obstacles]
+        self.parts = [(label, s, surf) for label, s, surf in self.parts if surf is not None]
+        self.entries: list[tuple[float, list[str]]] = []
+        self.static: dict[str, str] = {}  # label -> the file of a surface that does not move
+
+    def write(self, sim):
+        k = len(self.entries)
+        files = []
+        for sid, (label, stage, surf) in enumerate(self.parts):
+            shift = stage.surface_shift(sim.time)
+            if shift is None and label in self.static:
+                files.append(self.static[label])
+                continue
+            fname = f"surfaces/{label}_{k:06d}.vtu"
+            self._write_mesh(self.dir.parent / fname, surf, shift, sid)
+            if shift is None:
+                self.static[label] = fname
+            files.append(fname)
+        self.entries.append((sim.time, files))
+        self._write_pvd()
+
+    def _write_mesh(self, path, surf, shift, sid):
+        import meshio
+
+        pts = surf.vertices.copy()
+        if shift is not None:
+            pts[:, : len(shift)] += shift
+        cell = {"stage_id": np.full(len(surf.cells), sid, np.int32), "normal": cell_normals(surf)}
+        mesh = meshio.Mesh(pts, [(surf.kind, surf.cells)], cell_data={k: [v] for k, v in cell.items()})
+        with atomic_path(path) as tmp:
+            meshio.write(tmp, mesh, file_format="vtu", binary=self.params.binary)
+
+    def _write_pvd(self):
+        rows = "\n".join(f'    <DataSet timestep="{t:.10g}" group="" part="{p}" file="{f}"/>'
+                         for t, files in self.entries for p, f in enumerate(files))
+        atomic_write_text(self.pvd, '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
+                          f"  <Collection>\n{rows}\n  </Collection>\n</VTKFile>\n")
+
+    def state(self):
+        return {"entries": [[t, list(f)] for t, f in self.entries], "static": dict(self.static)}
+
+    def resume(self, run_dir, sim, state):
+        """Keep the files listed at the checkpoint; later ones are overwritten as the run repeats them."""
+        self.open(run_dir, sim)
+        self.entries = [(t, list(f)) for t, f in state["entries"]]
+        self.static = dict(state.get("static", {}))
+        self._write_pvd()
