@@ -196,13 +196,13 @@ def assemble(loaded: LoadedCase) -> Scene:
         case_text=json.dumps(loaded.raw), crs=case.crs,
         base_dir=loaded.base_dir,
     )
+    for r, spec in zip(loaded.outputs, loaded.case.outputs):  # first: a stage asks what they need (face forces)
+        scene.writers.append(r.cls(r.params, spec.interval))
     for attr in ("boundaries", "obstacles", "damping"):
         for r in getattr(loaded, attr):
             stage = r.cls(r.params, r.label, r.path)
             stage.setup(scene)
             getattr(scene, attr).append(stage)
-    for r, spec in zip(loaded.outputs, loaded.case.outputs):
-        scene.writers.append(r.cls(r.params, spec.interval))
     _check_output_intervals(scene, loaded.case.outputs)
     return scene
 

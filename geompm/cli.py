@@ -167,7 +167,7 @@ def _write_status(run_dir: Path, scene, runner, summary, finished: bool, reason:
         "particle_steps_per_second": summary.particle_steps_per_second if summary else None,
         "peak_rss_bytes": peak_rss(),
         "front_x": float(sim.state.p_x[:, 0].max()) if sim.state.n else None,
-        "obstacles": {o.label: {"peak_force": pk[0], "peak_time": pk[1]}
+        "obstacles": {o.label: {"peak_force": pk[0], "peak_time": pk[1], **_hot_spot(o)}
                       for o in scene.obstacles if (pk := o.peak_force()) is not None},
         "geompm": __version__,
     }
@@ -258,6 +258,15 @@ def _run_dir_arg(path) -> Path:
     return run_dir
 
 
+def _hot_spot(stage) -> dict:
+    """status.json's peak face pressure of an obstacle whose force is spread on its faces."""
+    spot = stage.hot_spot() if hasattr(stage, "hot_spot") else None
+    if spot is None:
+        return {}
+    return {"peak_pressure": spot[0], "peak_pressure_at": [float(c) for c in spot[1][:stage.dim]],
+            "peak_pressure_time": spot[2]}
+
+
 def cmd_info(args) -> int:
     from .engine import checkpoint
 
@@ -282,9 +291,14 @@ def cmd_info(args) -> int:
         for name, o in status["obstacles"].items():
             unit = "N" if case.get("dimension") == 3 else "N/m"
             print(f"peak force   {name}: {o['peak_force']:.4g} {unit} at t = {o['peak_time']:.4g} s")
+            if "peak_pressure" in o:
+                at = ", ".join(f"{c:.3f}" for c in o["peak_pressure_at"])
+                print(f"hot spot     {name}: face pressure {o['peak_pressure']:.4g} Pa at ({at}) m, "
+                      f"t = {o['peak_pressure_time']:.4g} s")
     print(f"simulated    t = {float(last['time']):.6g} s of {case['time']['end']:g} s, {last['step']} steps")
     print(f"runout       front x = {float(last['front_x']):.3f} m at the last series row")
     outs = [name for name, present in (("VTU/PVD", (run_dir / "particles.pvd").is_file()),
+                                       ("surfaces", (run_dir / "surfaces.pvd").is_file()),
                                        ("HDF5", (run_dir / "results.h5").is_file())) if present]
     print(f"outputs      series.csv ({len(lines) - 1} rows, {len(cols)} columns)" + "".join(f", {o}" for o in outs))
     maps = run_dir / "maps" / "summary.json"

@@ -5,7 +5,9 @@
 - ``plot_series(series_csv, png)``: kinetic energy and front position over time;
 - ``plot_deposit(positions, bodies, png)``: particle positions of a 2D run
   (the deposit profile at the last output), coloured by body;
-- ``plot_run(run_dir)``: all of them for ``geompm plot``.
+- ``plot_run(run_dir)``: all of them for ``geompm plot``, with the hazard maps
+  (maps_plot.py) and the obstacles' face pressures (pressure_plot.py) when
+  the run wrote them.
 """
 
 from __future__ import annotations
@@ -16,7 +18,8 @@ import numpy as np
 
 
 PNG_NAMES = ("series.png", "forces.png", "deposit.png", "map_depth_max.png", "map_speed_max.png",
-             "map_pressure_max.png", "map_arrival.png", "map_deposit.png")  # what plot_run writes (maps_plot.py)
+             "map_pressure_max.png", "map_arrival.png", "map_deposit.png",
+             "pressure.png")  # what plot_run writes (maps_plot.py, pressure_plot.py)
 
 
 def _load(series_csv):
@@ -119,4 +122,7 @@ def plot_run(run_dir: str | Path, out_dir: str | Path | None = None) -> list[Pat
         from .maps_plot import plot_maps
 
         made += plot_maps(run_dir, out)
-    return made
+    from .pressure_plot import PNG_NAME, plot_pressures
+
+    pressure = plot_pressures(run_dir, out / PNG_NAME, run_dir.name)
+    return made + ([pressure] if pressure is not None else [])

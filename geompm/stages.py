@@ -115,7 +115,9 @@ class GridStage(Stage):
     node_rule: ClassVar = None
     node_image: ClassVar = None
     node_scratch: ClassVar[int] = 0  # float64 scratch entries per thread
-    node_reduction: ClassVar[int] = 0  # accumulator entries per thread
+    #: accumulator entries per thread; a stage may set its own in setup (an obstacle's per-face forces),
+    #: before the backend plans its passes
+    node_reduction: int = 0
 
     def grid_args(self, dt: float, time: float, remap: bool):
         """(prm, aux) for this pass, or None to skip it.  ``remap`` is True when the scheduler
@@ -145,7 +147,7 @@ class ParticleStage(Stage):
 
     particle_rule: ClassVar = None
     particle_scratch: ClassVar[int] = 0
-    particle_reduction: ClassVar[int] = 0
+    particle_reduction: int = 0  # as node_reduction
 
     def particle_args(self, dt: float, time: float):
         """(prm, aux) for this pass, or None to skip it."""

@@ -19,7 +19,6 @@ import pytest
 from geompm.cli import main
 from geompm.obstacles.tessellate import (box_surface, cylinder_surface, heightfield_surface, plane_surface,
                                          sphere_surface)
-from geompm.writers.surfaces import cell_normals
 
 
 def test_tessellations_have_the_closed_form_sizes():
@@ -53,13 +52,13 @@ def test_box_normals_point_outwards_and_heightfield_area():
     """The box's cell normals point away from its centre (the sign the face pressure will use), and a
     height field of the plane z = 0.5 x on 1 m x 1 m has the area sqrt(1 + 0.25) = 1.1180 m2 exactly."""
     box = box_surface([0.0, 0.0, 0.0], [0.3, 0.2, 0.1], 0.05)
-    out = ((box.centres() - [0.15, 0.1, 0.05]) * cell_normals(box)).sum(axis=1)
+    out = ((box.centres() - [0.15, 0.1, 0.05]) * box.normals()).sum(axis=1)
     assert (out > 0).all()
     xs = ys = np.linspace(0.0, 1.0, 11)
     z = 0.5 * xs[:, None] + 0.0 * ys[None, :]
     hf = heightfield_surface(xs, ys, z)
     assert hf.sizes().sum() == pytest.approx(math.sqrt(1.25), rel=1e-12)
-    assert (cell_normals(hf)[:, 2] > 0).all()  # up, out of the ground
+    assert (hf.normals()[:, 2] > 0).all()  # up, out of the ground
 
 
 def _case(tmp_path):
@@ -114,3 +113,29 @@ def test_surfaces_writer_series(tmp_path):
         assert grid.GetNumberOfCells() == len(m.cells[0].data) == 12  # perimeter 0.6 m in 0.05 m pieces
         assert grid.GetCellData().GetArray("normal").GetNumberOfComponents() == 3
     assert box0[:, 0].min() == pytest.approx(0.2)
+
+
+def test_pressure_fields_hot_spot_and_plot(tmp_path, capsys):
+    """The box of the writer test carries its face pressures: the last file's max_normal_pressure peaks at
+    the value, face centre and time that status.json and `geompm info` name as the hot spot, every
+    normal_pressure is at most the running maximum, and `geompm plot` draws pressure.png."""
+    out = tmp_path / "run"
+    assert main(["run", str(_case(tmp_path)), "--out", str(out), "--quiet"]) == 0
+    status = json.loads((out / "status.json").read_text())["obstacles"]["sled"]
+    last = sorted(f for t, p, f in _pvd(out / "surfaces.pvd") if p == "1")[-1]
+    m = meshio.read(out / last)
+    pmax, p = m.cell_data["max_normal_pressure"][0], m.cell_data["normal_pressure"][0]
+    assert status["peak_pressure"] == pytest.approx(pmax.max(), rel=1e-12) and pmax.max() > 0.0
+    assert (p <= pmax + 1e-9).all()
+    k = int(np.argmax(pmax))
+    centre = m.points[m.cells[0].data[k]].mean(axis=0)
+    t_peak = m.cell_data["time_of_max"][0][k]
+    assert status["peak_pressure_time"] == pytest.approx(t_peak)
+    # the file is at t = 0.1 s; the hot spot is where the face was at t_peak (the box moves at 0.5 m/s)
+    assert np.allclose(status["peak_pressure_at"], centre[:2] - [0.5 * (0.1 - t_peak), 0.0], atol=1e-9)
+    capsys.readouterr()
+    assert main(["info", str(out)]) == 0
+    assert f"hot spot     sled: face pressure {status['peak_pressure']:.4g} Pa" in capsys.readouterr().out
+    pytest.importorskip("matplotlib")
+    assert main(["plot", str(out)]) == 0
+    assert (out / "plots" / "pressure.png").stat().st_size > 10_000

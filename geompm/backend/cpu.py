@@ -114,10 +114,10 @@ class CpuBackend(Backend):
         cls, nc, d = type(stage), self.buffers.nchunks, self.scene.dim
         plan = self._stage_loops(cls)
         if issubclass(cls, GridStage):
-            plan["node_out"] = np.zeros((nc, max(cls.node_reduction, 1)))
+            plan["node_out"] = np.zeros((nc, max(stage.node_reduction, 1)))  # a stage may size it in setup
             plan["node_work"] = np.zeros((nc, d + cls.node_scratch))
         if issubclass(cls, ParticleStage):
-            plan["particle_out"] = np.zeros((nc, max(cls.particle_reduction, 1)))
+            plan["particle_out"] = np.zeros((nc, max(stage.particle_reduction, 1)))
             plan["particle_work"] = np.zeros((nc, max(cls.particle_scratch, 1)))
         return plan
 

@@ -17,6 +17,12 @@ import math
 from numba import njit
 
 CONDITIONS = {"fixed": 0, "slip": 1, "friction": 2}
+#: a node within ON_SURFACE h of a surface is on it, in contact: a node that lies exactly on a face
+#: (an obstacle or plane aligned with the grid) otherwise has a signed distance of +-1e-17 m from the
+#: round-off of the lattice or of the plane's point, and that sign decided whether the face's whole row
+#: of nodes took the load (a hydrostatic plate took 1/8 of its load at the first step, and 10 % less
+#: on average, as its far face moved from x = 0.40 to 0.42 m)
+ON_SURFACE = 1e-9
 
 
 @njit(cache=True, inline="always")

@@ -15,7 +15,7 @@ from numba import njit
 
 from ..layout import pack_in_layout, param_layout
 from ..stages import NO_AUX, GridStage, ParticleStage
-from .contact import CONDITIONS, apply_condition
+from .contact import CONDITIONS, ON_SURFACE, apply_condition
 
 #: packed parameters: a point on the surface [m] and the unit normal into the material (3 slots each,
 #: 2D uses the first two), the contact condition (contact.CONDITIONS), the Coulomb coefficient [-],
@@ -66,7 +66,8 @@ class HalfSpace(GridStage, ParticleStage):
         point[:d], normal[:d] = self.point, self.normal
         values = {f"point_{c}": point[k] for k, c in enumerate("xyz")}
         values.update({f"normal_{c}": normal[k] for k, c in enumerate("xyz")})
-        values.update(condition=CONDITIONS[self.params.condition], mu=self.params.friction, layer=self.layer)
+        values.update(condition=CONDITIONS[self.params.condition], mu=self.params.friction,
+                      layer=self.layer + ON_SURFACE * self.grid.h)
         self.prm = pack_in_layout(HALFSPACE, values, f"stage '{self.label}'")
 
     def setup(self, scene):

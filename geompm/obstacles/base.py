@@ -23,10 +23,10 @@ from pydantic import Field
 
 from ..errors import CaseError
 from ..plugin import Params, vector_length_problems
-from .contact_force import OBSTACLE, contact_and_record
+from .contact_force import FACES_GRID, OBSTACLE, contact_and_record, record_on_face
 from .guard import guard_rule, guard_spacing, lattice_points
 from .recorded import ContactForceStage
-from .sdf_field import interp_field, sdf_lattice
+from .sdf_field import face_lattice_ids, interp_field, sdf_lattice
 
 O = OBSTACLE
 
@@ -56,12 +56,13 @@ def obstacle_node_rule(prm, field, dt, x, m, v, v_old, f, work, out):
             return
         work[a] = xa
     xf, nrm, bef, fo, base, frac, val = 0, d, 2 * d, 3 * d, 4 * d, 5 * d, 6 * d
-    interp_field(field, prm, O.lat_x, O.shape_x, 1.0 / hl, work, xf, base, frac, val)
+    interp_field(field, prm, O.lat_x, O.shape_x, 1.0 / hl, work, xf, base, frac, val, d)
     if work[val] > prm[O.layer]:
         return
     for a in range(d):
         work[nrm + a] = work[val + 1 + a]
-    contact_and_record(v, work, nrm, xf, bef, fo, prm, m, 1.0 / dt, out)
+    if contact_and_record(v, work, nrm, xf, bef, fo, prm, m, 1.0 / dt, out):
+        record_on_face(field, prm, work, base, frac, fo, d, FACES_GRID, out)
 
 
 GUARD_POINTS_MAX = 2e7  # lattice points of one obstacle's guard field (4 doubles each in 3D: 640 MB)
@@ -113,8 +114,26 @@ class RigidObstacle(ContactForceStage):
         if self.params.velocity is not None:
             self.vel = np.asarray(self.params.velocity, float)
         self.set_moment_point(0.5 * (lo + hi))
+        if self.faces_wanted(scene):
+            self._spread_on_faces(h)
         self.grid_prm = self._pack(self.lat_origin, self.lat_shape, h)
         self.guard_prm = self._pack(self.guard_origin, self.guard_shape, self.guard_h)
+
+    def _spread_on_faces(self, h):
+        """Face ids on both lattices (sdf_field.face_lattice_ids): every contact node (phi <= contact_layer;
+        its nearest lattice point within h sqrt(d) / 2 more) and every guard correction (on the surface:
+        |phi| <= 2 hs at its nearest lattice point) finds its face.  Normals are turned out of the solid
+        where the mesh's winding says otherwise (phi > 0 just outside)."""
+        surf = self.surface()
+        n = surf.normals()
+        c = surf.centres()[:, :self.dim]
+        out = self.signed_distance(c + 1e-3 * h * n[:, :self.dim]) > self.signed_distance(c - 1e-3 * h * n[:, :self.dim])
+        n[~out] *= -1.0
+        reach = self.params.contact_layer + h * np.sqrt(self.dim)
+        self.field = face_lattice_ids(self.field, self.lat_origin, self.lat_shape, h, surf, reach, h)
+        self.guard_field = face_lattice_ids(self.guard_field, self.guard_origin, self.guard_shape, self.guard_h,
+                                            surf, 2.0 * self.guard_h, h, inner=2.0 * self.guard_h)
+        self.start_faces(surf, n)
 
     def _pack(self, lat_origin, lat_shape, spacing):
         return self.pack_obstacle({"lat": lat_origin, "shape": lat_shape, "shift": np.zeros(self.dim),

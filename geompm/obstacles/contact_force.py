@@ -17,6 +17,7 @@ from numba import njit
 
 from ..boundaries.contact import apply_condition
 from ..layout import param_layout
+from .sdf_field import nearest_point
 
 #: an obstacle's packed parameters (3 slots per vector, 2D uses two): its signed-distance lattice (first
 #: point [m], points per axis, spacing [m]), its displacement at the pass's time [m], its velocity [m/s],
@@ -27,6 +28,8 @@ OBSTACLE = param_layout("lat_x", "lat_y", "lat_z", "shape_x", "shape_y", "shape_
                         "moment_x", "moment_y", "moment_z", "layer", "condition", "mu")
 FORCE_SLOTS = 10  # out[0:2d+4] (below) for d <= 3
 COUNT, DEPTH = FORCE_SLOTS, FORCE_SLOTS + 1  # the guard's corrections and its deepest penetration [m]
+#: where the per-face forces start in the grid pass's and the guard's rows: (faces, d) after the totals
+FACES_GRID, FACES_GUARD = FORCE_SLOTS, DEPTH + 1
 
 
 @njit(cache=True, inline="always")
@@ -74,3 +77,20 @@ def contact_and_record(v, w, n0, x0, b0, f0, prm, m, inv_dt, out):
     else:
         out[2 * d + 3] += r0 * f_1 - r1 * f_0
     return True
+
+
+@njit(cache=True, inline="always")
+def record_on_face(field, prm, w, base0, frac0, f0, d, slot0, out):
+    """Share the force w[f0:f0 + d] among the faces of the lattice point nearest to the last interpolation
+    (interp_field's base and fraction in w): out[slot0 + face d + a].  Nothing without face columns
+    (the surfaces writer is off) or where the point has none (-1)."""
+    k = field.shape[1] - d - 1  # the samples of sdf_field.face_lattice_ids, each with an equal share
+    if k <= 0:
+        return
+    row = nearest_point(prm, OBSTACLE.shape_x, w, base0, frac0, d)
+    for c in range(k):
+        face = int(field[row, d + 1 + c])
+        if face < 0:
+            return
+        for a in range(d):
+            out[slot0 + face * d + a] += w[f0 + a] / k

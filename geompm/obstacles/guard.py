@@ -32,7 +32,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .contact_force import COUNT, DEPTH, OBSTACLE, contact_and_record
+from .contact_force import COUNT, DEPTH, FACES_GUARD, OBSTACLE, contact_and_record, record_on_face
 from .sdf_field import interp_field
 
 GUARD_REFINE = 4  # lattice spacing at most h / GUARD_REFINE
@@ -42,8 +42,8 @@ O = OBSTACLE
 
 
 @njit(cache=True)  # a call, not inlined: five uses in guard_rule would make its loops slow to compile
-def _phi(field, prm, w, x0, base0, frac0, val0):
-    interp_field(field, prm, O.lat_x, O.shape_x, 1.0 / prm[O.spacing], w, x0, base0, frac0, val0)
+def _phi(field, prm, w, x0, base0, frac0, val0, d):
+    interp_field(field, prm, O.lat_x, O.shape_x, 1.0 / prm[O.spacing], w, x0, base0, frac0, val0, d)
     return w[val0]
 
 
@@ -75,7 +75,7 @@ def guard_rule(prm, field, dt, k, p_x, x0, p_v, C, m, s, work, out):
     for a in range(d):
         w[x + a] = p_x[a] - prm[O.shift_x + a]
         w[xo + a] = w[x + a] - dt * p_v[a]
-    phi = _phi(field, prm, w, x, base, frac, val)
+    phi = _phi(field, prm, w, x, base, frac, val, d)
     hit = False
     if phi < 0.0:
         hit = True
@@ -88,13 +88,13 @@ def guard_rule(prm, field, dt, k, p_x, x0, p_v, C, m, s, work, out):
                 break
             for a in range(d):
                 w[x + a] -= phi * w[val + 1 + a] / g2
-            phi = _phi(field, prm, w, x, base, frac, val)
+            phi = _phi(field, prm, w, x, base, frac, val, d)
     elif _inside_lattice(w, xo, d, prm):
         seg = 0.0
         for a in range(d):
             seg += (w[x + a] - w[xo + a]) ** 2
         seg = np.sqrt(seg)
-        phi0 = _phi(field, prm, w, xo, base, frac, val)
+        phi0 = _phi(field, prm, w, xo, base, frac, val, d)
         if seg > 0.0 and -hs < phi0 < seg:  # a start on the surface (phi0 ~ 0) is marched too
             t_out, t = 0.0, 0.0
             cur = max(phi0, 0.0)
@@ -103,7 +103,7 @@ def guard_rule(prm, field, dt, k, p_x, x0, p_v, C, m, s, work, out):
                 t = min(1.0, t + max(cur, MIN_STEP * hs) / seg)
                 for a in range(d):
                     w[y + a] = w[xo + a] + t * (w[x + a] - w[xo + a])
-                cur = _phi(field, prm, w, y, base, frac, val)
+                cur = _phi(field, prm, w, y, base, frac, val, d)
                 if cur < 0.0:
                     hit = True
                     break
@@ -113,13 +113,13 @@ def guard_rule(prm, field, dt, k, p_x, x0, p_v, C, m, s, work, out):
                     tm = 0.5 * (t_out + t_in)
                     for a in range(d):
                         w[y + a] = w[xo + a] + tm * (w[x + a] - w[xo + a])
-                    if _phi(field, prm, w, y, base, frac, val) < 0.0:
+                    if _phi(field, prm, w, y, base, frac, val, d) < 0.0:
                         t_in = tm
                     else:
                         t_out = tm
                 for a in range(d):
                     w[x + a] = w[xo + a] + t_out * (w[x + a] - w[xo + a])
-                _phi(field, prm, w, x, base, frac, val)
+                _phi(field, prm, w, x, base, frac, val, d)
     if not hit:
         return
     for a in range(d):
@@ -127,6 +127,7 @@ def guard_rule(prm, field, dt, k, p_x, x0, p_v, C, m, s, work, out):
         p_x[a] = w[x + a] + prm[O.shift_x + a]
     if contact_and_record(p_v, w, nrm, x, y, f, prm, m, 1.0 / dt, out):
         out[COUNT] += 1.0
+        record_on_face(field, prm, w, base, frac, f, d, FACES_GUARD, out)
 
 
 def guard_spacing(h: float, thinnest: float | None) -> float:

@@ -19,11 +19,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..boundaries.contact import CONDITIONS
+from ..boundaries.contact import CONDITIONS, ON_SURFACE
 from ..layout import pack_in_layout
 from ..stages import OBSTACLE as OBSTACLE_PHASE
 from ..stages import GridStage, ParticleStage
-from .contact_force import COUNT, DEPTH, FORCE_SLOTS, OBSTACLE
+from .contact_force import COUNT, DEPTH, FACES_GRID, FACES_GUARD, FORCE_SLOTS, OBSTACLE
+from .face_pressure import face_pressure_step, spread_matrix
 
 
 class ContactForceStage(GridStage, ParticleStage):
@@ -48,6 +49,51 @@ class ContactForceStage(GridStage, ParticleStage):
         self.moment = np.zeros(3)
         self.particles_put_back = 0  # by the guard, over the run
         self.max_depth = 0.0  # deepest penetration the guard corrected [m]
+        self.faces = None  # the tessellate.Surface the force is spread on (start_faces), if any
+
+    @staticmethod
+    def faces_wanted(scene) -> bool:
+        """Whether a writer of the scene needs the force per face (Writer.wants_face_forces)."""
+        return any(w.wants_face_forces for w in scene.writers)
+
+    def start_faces(self, surface, normals):
+        """Spread the force onto the faces of ``surface``: each pass's rows get (faces, d) entries after the
+        totals, which the rules fill through contact_force.record_on_face.  ``normals`` (faces, 3): unit,
+        out of the solid (the pressure's sign)."""
+        d, nf = self.dim, len(surface.cells)
+        self.faces = surface
+        self.face_area = surface.sizes()  # [m2; m per metre of depth in 2D]
+        self.face_normal = np.ascontiguousarray(normals[:, :d])
+        self.face_centre = surface.centres()
+        self.spread = spread_matrix(self.face_centre, normals, self.face_area, self.grid.h)
+        self.node_reduction = FACES_GRID + nf * d
+        self.particle_reduction = FACES_GUARD + nf * d
+        self._grid_faces = np.zeros(nf * d)
+        self.face_force = np.zeros((nf, d))  # on each face, this step [N; N/m in 2D]
+        self.face_pressure = np.zeros(nf)  # normal pressure, pushing in positive [Pa]
+        self.face_shear = np.zeros(nf)  # magnitude of the tangential traction [Pa]
+        self.face_pmax = np.zeros(nf)  # running maximum of the normal pressure [Pa]
+        self.face_tmax = np.zeros(nf)  # its time [s]
+        self.face_p_at_peak = np.zeros(nf)  # the normal pressure at the step of the peak |F| [Pa]
+
+    def _faces_step(self, out, time):
+        """The faces' forces, pressures and running maximum of a step (particle_reduced)."""
+        d, nf = self.dim, len(self.face_area)
+        raw = self._grid_faces + out[:, FACES_GUARD:FACES_GUARD + nf * d].sum(axis=0)
+        S = self.spread
+        face_pressure_step(S.indptr, S.indices, S.data, raw, self.face_normal, self.face_area, time,
+                           self.face_force, self.face_pressure, self.face_shear, self.face_pmax, self.face_tmax)
+
+    def hot_spot(self):
+        """(largest face pressure over the run [Pa], where its face centre was then [m] (3,), its time [s]),
+        or None."""
+        if self.faces is None or not self.face_pmax.any():
+            return None
+        k = int(np.argmax(self.face_pmax))
+        t = float(self.face_tmax[k])
+        where = self.face_centre[k].copy()
+        where[:self.dim] += self.vel * t
+        return float(self.face_pmax[k]), where, t
 
     def set_moment_point(self, default):
         mp = self.params.moment_point
@@ -62,13 +108,16 @@ class ContactForceStage(GridStage, ParticleStage):
             full = np.zeros(3)
             full[:d] = value
             vec.update({f"{name}_{c}": full[k] for k, c in enumerate("xyz")})
-        vec.update(spacing=spacing, layer=self.params.contact_layer, condition=CONDITIONS[self.params.condition],
+        vec.update(spacing=spacing, layer=self.params.contact_layer + ON_SURFACE * self.grid.h,
+                   condition=CONDITIONS[self.params.condition],
                    mu=self.params.friction, **(extra or {}))
         return pack_in_layout(layout, vec, f"stage '{self.label}'")
 
     def grid_reduced(self, out, dt, time, remap):
         if not remap:  # forces are those of the first application in the step; the guard's are added
-            self.grid_out[:] = out.sum(axis=0)
+            self.grid_out[:] = out[:, :FORCE_SLOTS].sum(axis=0)
+            if self.faces is not None:
+                self._grid_faces[:] = out[:, FACES_GRID:].sum(axis=0)
 
     def particle_reduced(self, out, dt, time):
         d = self.dim
@@ -82,6 +131,10 @@ class ContactForceStage(GridStage, ParticleStage):
         mag = float(np.linalg.norm(self.force))
         if mag > self.peak[0]:
             self.peak = (mag, time + dt)
+        if self.faces is not None:
+            self._faces_step(out, time + dt)
+            if self.peak[1] == time + dt:
+                self.face_p_at_peak[:] = self.face_pressure
 
     def supplied_speed(self) -> float:
         return float(np.linalg.norm(self.vel))
@@ -106,12 +159,18 @@ class ContactForceStage(GridStage, ParticleStage):
         unit = "N" if self.dim == 3 else "N/m"
         guard = (f"; {self.particles_put_back} particle corrections by the guard (deepest {self.max_depth:.3g} m "
                  f"= {self.max_depth / self.grid.h:.2f} h before correction)" if self.particles_put_back else "")
-        return f"{self.kind} '{self.label}': peak force {self.peak[0]:.4g} {unit} at t = {self.peak[1]:.4g} s{guard}"
+        spot = self.hot_spot()
+        where = "" if spot is None else (f"; peak face pressure {spot[0]:.4g} Pa at ({', '.join(f'{c:.3f}' for c in spot[1][:self.dim])}) m, "
+                                         f"t = {spot[2]:.4g} s")
+        return (f"{self.kind} '{self.label}': peak force {self.peak[0]:.4g} {unit} at t = {self.peak[1]:.4g} s{where}"
+                f"{guard}")
 
     def state_dict(self) -> dict:
+        faces = {} if self.faces is None else {"face_pmax": self.face_pmax.tolist(), "face_tmax": self.face_tmax.tolist(),
+                                               "face_p_at_peak": self.face_p_at_peak.tolist()}
         return {"peak": list(self.peak), "force": self.force.tolist(), "fn": float(self.fn), "ft": float(self.ft),
                 "moment": np.asarray(self.moment).tolist(),
-                "particles_put_back": self.particles_put_back, "max_depth": self.max_depth}
+                "particles_put_back": self.particles_put_back, "max_depth": self.max_depth, **faces}
 
     def load_state(self, state: dict) -> None:
         self.peak = tuple(state["peak"])
@@ -120,3 +179,7 @@ class ContactForceStage(GridStage, ParticleStage):
         self.moment = np.asarray(state["moment"], float)
         self.particles_put_back = int(state.get("particles_put_back", 0))
         self.max_depth = float(state.get("max_depth", 0.0))
+        if self.faces is not None and "face_pmax" in state:
+            self.face_pmax[:] = state["face_pmax"]
+            self.face_tmax[:] = state["face_tmax"]
+            self.face_p_at_peak[:] = state["face_p_at_peak"]

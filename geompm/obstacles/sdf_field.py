@@ -13,17 +13,17 @@ from numba import njit
 
 
 @njit(cache=True, inline="always")
-def interp_field(field, prm, lat0, shape0, inv_h, w, x0, base0, frac0, val0):
-    """Trilinear (bilinear in 2D) interpolation of a flat lattice field (points, k) at a point.
+def interp_field(field, prm, lat0, shape0, inv_h, w, x0, base0, frac0, val0, d):
+    """Trilinear (bilinear in 2D) interpolation of the first k = d + 1 columns (phi, grad phi) of a flat
+    lattice field (points, >= d + 1) at a point in d dimensions.
 
     Every vector is read at an offset, never sliced (a slice in a per-item
     function costs a reference count per call, contact.apply_condition): the
     lattice's first point [m] is prm[lat0:lat0 + d], its points per axis
     prm[shape0:shape0 + d]; the point is w[x0:x0 + d]; w[base0:base0 + d] and
     w[frac0:frac0 + d] are scratch; the k interpolated values go to
-    w[val0:val0 + k].  d is the field's column count minus one."""
-    k = field.shape[1]
-    d = k - 1
+    w[val0:val0 + k].  A further column (the face ids of face_lattice_ids) is not interpolated."""
+    k = d + 1
     for c in range(k):
         w[val0 + c] = 0.0
     for a in range(d):
@@ -43,6 +43,81 @@ def interp_field(field, prm, lat0, shape0, inv_h, w, x0, base0, frac0, val0):
             continue
         for c in range(k):
             w[val0 + c] += wt * field[flat, c]
+
+
+@njit(cache=True, inline="always")
+def nearest_point(prm, shape0, w, base0, frac0, d):
+    """Flat index of the lattice point nearest to the point interp_field was last called at (from its
+    base and fraction in w)."""
+    flat = 0
+    for a in range(d):
+        flat = flat * int(prm[shape0 + a]) + int(w[base0 + a]) + (1 if w[frac0 + a] >= 0.5 else 0)
+    return flat
+
+
+#: samples of a contact point's patch (2 in 2D, 4 in 3D: at +-h/4 along each tangent), each with a face
+FACE_SAMPLES = {2: 2, 3: 4}
+
+
+def nearest_faces(surface, pts: np.ndarray) -> np.ndarray:
+    """Index of the face of ``surface`` (tessellate.Surface) nearest to each point (n, d): the 16 (2D: 4)
+    faces with the nearest centres are candidates (cKDTree), and the exact point-triangle (point-segment)
+    distance picks among them, so that a long thin face is not passed over for a neighbour whose centre
+    is nearer."""
+    from scipy.spatial import cKDTree
+
+    d = pts.shape[1]
+    verts = surface.vertices[surface.cells][:, :, :d]  # (faces, corners, d)
+    k = min(16 if d == 3 else 4, len(verts))
+    cand = cKDTree(verts.mean(axis=1)).query(pts, k=k)[1].reshape(len(pts), k)
+    p = np.repeat(pts, k, axis=0)
+    if d == 3:
+        from trimesh.triangles import closest_point
+
+        q = closest_point(verts[cand.ravel()], p)
+    else:
+        a, b = verts[cand.ravel(), 0], verts[cand.ravel(), 1]
+        t = np.clip(((p - a) * (b - a)).sum(axis=1) / np.maximum(((b - a) ** 2).sum(axis=1), 1e-300), 0.0, 1.0)
+        q = a + t[:, None] * (b - a)
+    dist = ((q - p) ** 2).sum(axis=1).reshape(len(pts), k)
+    return cand[np.arange(len(pts)), dist.argmin(axis=1)]
+
+
+def face_lattice_ids(field: np.ndarray, lo, shape, h: float, surface, reach: float,
+                     patch: float, inner: float = np.inf) -> np.ndarray:
+    """The field with FACE_SAMPLES[d] more columns: the faces that share the force recorded at each lattice
+    point with -inner <= phi <= reach [m] (-1 elsewhere: no contact force is recorded there).
+
+    The point is projected on the surface, x - phi grad phi / |grad phi|^2, and its patch of width
+    ``patch`` [m] (the cell size: a node's share of the surface) is sampled at +-patch/4 along each tangent;
+    each sample takes its nearest face (nearest_faces), and the force is shared equally
+    (contact_force.record_on_face).  A node on the edge between two faces thus gives half to each, where a
+    single nearest face would give all to one (a hydrostatic plate's raw pressure alternated between 0
+    and twice its value that way)."""
+    d = len(lo)
+    axes = [lo[a] + h * np.arange(shape[a]) for a in range(d)]
+    pts = np.stack([m.ravel() for m in np.meshgrid(*axes, indexing="ij")], axis=1)
+    phi, grad = field[:, 0], field[:, 1:d + 1]
+    k = FACE_SAMPLES[d]
+    ids = np.full((len(pts), k), -1.0)
+    near = (phi <= reach) & (phi >= -inner)
+    g = grad[near]
+    g2 = np.maximum((g ** 2).sum(axis=1), 1e-300)
+    proj = pts[near] - (phi[near] / g2)[:, None] * g
+    n = g / np.sqrt(g2)[:, None]
+    if d == 2:
+        tangents = [np.stack([-n[:, 1], n[:, 0]], axis=1)]
+    else:
+        helper = np.where(np.abs(n[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+        t1 = np.cross(n, helper)
+        t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
+        tangents = [t1, np.cross(n, t1)]
+    q = 0.25 * patch
+    signs = [(-1,), (1,)] if d == 2 else [(-1, -1), (-1, 1), (1, -1), (1, 1)]
+    for c, sg in enumerate(signs):
+        sample = proj + sum(s * q * t for s, t in zip(sg, tangents))
+        ids[near, c] = nearest_faces(surface, sample)
+    return np.ascontiguousarray(np.column_stack([field[:, :d + 1], ids]))
 
 
 def sdf_lattice(sdf_fn, lo, hi, h):

@@ -40,13 +40,14 @@ from ..fileio import case_relative, unreadable_file
 from ..layout import param_layout
 from ..plugin import Params
 from ..stages import FAR_NODE
-from .contact_force import COUNT, DEPTH, OBSTACLE, contact_and_record
+from .contact_force import COUNT, DEPTH, FACES_GRID, FACES_GUARD, OBSTACLE, contact_and_record
 from .dem import bilinear, read_dem
 from .recorded import ContactForceStage
 
 #: the obstacle slots (contact_force.OBSTACLE) and the DEM's lattice: first pixel centre [m], pixel size [m],
 #: pixels per axis, the cosine of its steepest slope
-TERRAIN = param_layout(OBSTACLE, "dem_x0", "dem_y0", "dem_dx", "dem_dy", "dem_nx", "dem_ny", "cos_steepest")
+TERRAIN = param_layout(OBSTACLE, "dem_x0", "dem_y0", "dem_dx", "dem_dy", "dem_nx", "dem_ny", "cos_steepest",
+                       "faces")  # faces: 1 when the force is spread on the DEM's triangles (surfaces writer)
 T = TERRAIN
 O_LAYER = OBSTACLE.layer
 PROJECTIONS = 3  # tangent-plane steps of the signed distance
@@ -97,6 +98,28 @@ def terrain_phi(z, prm, px, py, pz, w, n0):
 
 
 @njit(cache=True, inline="always")
+def record_on_dem_faces(prm, px, py, w, f0, slot0, out):
+    """Share the force w[f0:f0 + 3] among the DEM triangles under four samples of the point's patch, at
+    +-h/4 in x and y (as sdf_field.face_lattice_ids for obstacles): the triangles of
+    tessellate.heightfield_surface, cell c = ix (ny - 1) + iy split along its diagonal, c below it
+    (fx >= fy), (nx - 1)(ny - 1) + c above."""
+    nx, ny = int(prm[T.dem_nx]), int(prm[T.dem_ny])
+    q = 0.25 * prm[OBSTACLE.spacing]
+    cells = (nx - 1) * (ny - 1)
+    for s in range(4):
+        sx = px + (q if s & 1 else -q)
+        sy = py + (q if s & 2 else -q)
+        fx = (sx - prm[T.dem_x0]) / prm[T.dem_dx]
+        fy = (sy - prm[T.dem_y0]) / prm[T.dem_dy]
+        ix = min(max(int(math.floor(fx)), 0), nx - 2)
+        iy = min(max(int(math.floor(fy)), 0), ny - 2)
+        c = ix * (ny - 1) + iy
+        face = c if fx - ix >= fy - iy else cells + c
+        for a in range(3):
+            out[slot0 + face * 3 + a] += 0.25 * w[f0 + a]
+
+
+@njit(cache=True, inline="always")
 def terrain_node_rule(prm, z, dt, x, m, v, v_old, f, work, out):
     """Contact on one node; work: the node (0:3), the normal (3:6), two force scratch vectors (6:12)."""
     gap = x[2] - _height(z, prm, x[0], x[1])
@@ -107,7 +130,8 @@ def terrain_node_rule(prm, z, dt, x, m, v, v_old, f, work, out):
         return
     for a in range(3):
         work[a] = x[a]
-    contact_and_record(v, work, 3, 0, 6, 9, prm, m, 1.0 / dt, out)
+    if contact_and_record(v, work, 3, 0, 6, 9, prm, m, 1.0 / dt, out) and prm[T.faces] > 0.0:
+        record_on_dem_faces(prm, x[0], x[1], work, 9, FACES_GRID, out)
 
 
 @njit(cache=True, inline="always")
@@ -128,6 +152,8 @@ def terrain_guard_rule(prm, z, dt, k, x, x0, v, C, m, s, work, out):
         work[a] = x[a]
     if contact_and_record(v, work, 3, 0, 6, 9, prm, m, 1.0 / dt, out):
         out[COUNT] += 1.0
+        if prm[T.faces] > 0.0:
+            record_on_dem_faces(prm, x[0], x[1], work, 9, FACES_GUARD, out)
 
 
 
@@ -181,8 +207,13 @@ class Terrain(ContactForceStage):
         cos_steepest = 1.0 / math.sqrt(1.0 + 2.0 * steepest ** 2)  # |grad H| <= sqrt(2) max(|H_x|, |H_y|)
         centre = np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, float(dem.z.mean())])
         self.set_moment_point(centre)
+        faces = self.faces_wanted(scene)
         extra = {"dem_x0": dem.x0, "dem_y0": dem.y0, "dem_dx": dem.dx, "dem_dy": dem.dy,
-                 "dem_nx": dem.z.shape[0], "dem_ny": dem.z.shape[1], "cos_steepest": cos_steepest}
+                 "dem_nx": dem.z.shape[0], "dem_ny": dem.z.shape[1], "cos_steepest": cos_steepest,
+                 "faces": 1.0 if faces else 0.0}
+        if faces:
+            surf = self.surface()
+            self.start_faces(surf, surf.normals())  # heightfield_surface's triangles face up, out of the ground
         self.prm = self.pack_obstacle({"lat": np.zeros(3), "shape": np.zeros(3), "shift": np.zeros(3),
                                        "vel": np.zeros(3)}, g.h, extra, TERRAIN)
         top = float(dem.z.max()) + self.params.contact_layer

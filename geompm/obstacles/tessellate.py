@@ -25,6 +25,18 @@ class Surface:
     def centres(self) -> np.ndarray:
         return self.vertices[self.cells].mean(axis=1)
 
+    def normals(self) -> np.ndarray:
+        """Unit normal (m, 3) of each cell: the right-hand normal of a triangle (outward for the closed
+        obstacles, whose faces are ordered counter-clockwise seen from outside), (dy, -dx) of a 2D segment
+        (outward for outlines traversed counter-clockwise)."""
+        p = self.vertices[self.cells]
+        if self.kind == "line":
+            t = p[:, 1] - p[:, 0]
+            n = np.stack([t[:, 1], -t[:, 0], np.zeros(len(t))], axis=1)
+        else:
+            n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+        return n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+
     def sizes(self) -> np.ndarray:
         """Face areas [m2] (triangles) or lengths [m] (lines: the area per metre of depth)."""
         p = self.vertices[self.cells]

@@ -12,11 +12,15 @@ killed process leaves it readable (fileio.atomic_path, or one write() per row).
 from __future__ import annotations
 
 from pathlib import Path
+from typing import ClassVar
 
 from ..plugin import Plugin
 
 
 class Writer(Plugin):
+    #: whether the obstacles must spread their contact force onto their faces (recorded.ContactForceStage)
+    wants_face_forces: ClassVar[bool] = False
+
     def __init__(self, params, interval: float):
         self.params = params
         self.interval = float(interval)

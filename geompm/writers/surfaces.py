@@ -8,9 +8,15 @@ stages of one time as parts of a multiblock, at the same times as
 ``particles.pvd``, so ParaView opens the particles and the surfaces side by
 side as one animation.  Cells are triangles in 3D and lines in 2D (the
 outline in the x-y plane, per metre of depth).  Cell data: ``normal`` (3, unit,
-triangles: from the vertex order; lines: the in-plane normal) and
-``stage_id``.  A surface that does not move is written once and listed at
-every time (its file is the same).
+out of the solid for obstacles; triangles otherwise from the vertex order,
+lines the in-plane normal) and ``stage_id``; on every obstacle (and the
+terrain) the contact force of the output's step spread on the faces
+(recorded.ContactForceStage.start_faces): ``normal_pressure`` [Pa, pushing in
+positive], ``shear_traction`` [Pa], and over the run so far
+``max_normal_pressure`` [Pa] and ``time_of_max`` [s], and ``pressure_at_peak_force``
+[Pa], the normal pressure at the step of the largest |F| so far.  A surface that
+neither moves nor carries pressures is written once and listed at every
+time (its file is the same).
 """
 
 from __future__ import annotations
@@ -27,21 +33,11 @@ class SurfacesParams(Params):
     binary: bool = Field(True, description="Binary (zlib-compressed) VTU; false writes ASCII")
 
 
-def cell_normals(surface) -> np.ndarray:
-    """Unit normal [-] of each cell: the right-hand normal of a triangle, (dy, -dx) of a 2D segment."""
-    p = surface.vertices[surface.cells]
-    if surface.kind == "line":
-        t = p[:, 1] - p[:, 0]
-        n = np.stack([t[:, 1], -t[:, 0], np.zeros(len(t))], axis=1)
-    else:
-        n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
-    return n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
-
-
 class SurfacesWriter(Writer):
     name = "surfaces"
     description = "ParaView series of every rigid surface (obstacles, planes, walls, terrain): VTU per time and a PVD"
     Params = SurfacesParams
+    wants_face_forces = True
 
     def open(self, run_dir, sim):
         self.dir = run_dir / "surfaces"
@@ -58,24 +54,31 @@ class SurfacesWriter(Writer):
         files = []
         for sid, (label, stage, surf) in enumerate(self.parts):
             shift = stage.surface_shift(sim.time)
-            if shift is None and label in self.static:
+            loaded = getattr(stage, "faces", None) is not None  # its pressures change: written every time
+            if shift is None and not loaded and label in self.static:
                 files.append(self.static[label])
                 continue
             fname = f"surfaces/{label}_{k:06d}.vtu"
-            self._write_mesh(self.dir.parent / fname, surf, shift, sid)
-            if shift is None:
+            self._write_mesh(self.dir.parent / fname, surf, shift, sid, stage if loaded else None)
+            if shift is None and not loaded:
                 self.static[label] = fname
             files.append(fname)
         self.entries.append((sim.time, files))
         self._write_pvd()
 
-    def _write_mesh(self, path, surf, shift, sid):
+    def _write_mesh(self, path, surf, shift, sid, loaded):
         import meshio
 
         pts = surf.vertices.copy()
         if shift is not None:
             pts[:, : len(shift)] += shift
-        cell = {"stage_id": np.full(len(surf.cells), sid, np.int32), "normal": cell_normals(surf)}
+        cell = {"stage_id": np.full(len(surf.cells), sid, np.int32), "normal": surf.normals()}
+        if loaded is not None:
+            n = np.zeros((len(surf.cells), 3))
+            n[:, :loaded.dim] = loaded.face_normal
+            cell.update(normal=n, normal_pressure=loaded.face_pressure.copy(), shear_traction=loaded.face_shear.copy(),
+                        max_normal_pressure=loaded.face_pmax.copy(), time_of_max=loaded.face_tmax.copy(),
+                        pressure_at_peak_force=loaded.face_p_at_peak.copy())
         mesh = meshio.Mesh(pts, [(surf.kind, surf.cells)], cell_data={k: [v] for k, v in cell.items()})
         with atomic_path(path) as tmp:
             meshio.write(tmp, mesh, file_format="vtu", binary=self.params.binary)
