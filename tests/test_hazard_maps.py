@@ -95,6 +95,7 @@ def test_hazard_maps_of_a_sliding_block(tmp_path, capsys):
         local = meshio.read(sorted((tmp_path / "run_local" / "particles").glob("particles_*.vtu"))[k])
         shift = site.points - local.points
         assert site.points[:, 0].min() > EAST
+        assert bytes(site.field_data["crs"]).decode() == "EPSG:2056" and "crs" not in local.field_data
         np.testing.assert_allclose(shift[:, 0], EAST, rtol=0, atol=1e-6)
         np.testing.assert_allclose(shift[:, 1], NORTH, rtol=0, atol=1e-6)
         np.testing.assert_allclose(shift[:, 2], 0.0, rtol=0, atol=1e-6)

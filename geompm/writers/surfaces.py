@@ -27,6 +27,7 @@ from pydantic import Field
 from ..fileio import atomic_path, atomic_write_text
 from ..plugin import Params
 from .base import Writer
+from .vtu import add_text_field
 
 
 class SurfacesParams(Params):
@@ -59,14 +60,14 @@ class SurfacesWriter(Writer):
                 files.append(self.static[label])
                 continue
             fname = f"surfaces/{label}_{k:06d}.vtu"
-            self._write_mesh(self.dir.parent / fname, surf, shift, sid, stage if loaded else None)
+            self._write_mesh(self.dir.parent / fname, surf, shift, sid, stage if loaded else None, sim.scene.crs)
             if shift is None and not loaded:
                 self.static[label] = fname
             files.append(fname)
         self.entries.append((sim.time, files))
         self._write_pvd()
 
-    def _write_mesh(self, path, surf, shift, sid, loaded):
+    def _write_mesh(self, path, surf, shift, sid, loaded, crs=None):
         import meshio
 
         pts = surf.vertices.copy()
@@ -82,6 +83,8 @@ class SurfacesWriter(Writer):
         mesh = meshio.Mesh(pts, [(surf.kind, surf.cells)], cell_data={k: [v] for k, v in cell.items()})
         with atomic_path(path) as tmp:
             meshio.write(tmp, mesh, file_format="vtu", binary=self.params.binary)
+            if crs:
+                add_text_field(tmp, "crs", crs)
 
     def _write_pvd(self):
         rows = "\n".join(f'    <DataSet timestep="{t:.10g}" group="" part="{p}" file="{f}"/>'

@@ -5,7 +5,8 @@ stress (6: xx, yy, zz, xy, yz, xz) [Pa, tension positive],
 mean_stress_p = -tr(sigma)/3 [Pa, compression positive], von_mises_q [Pa],
 material_id, body_id, volume [m3; m2 in 2D], density [kg/m3], and every
 material state variable by name (zero on particles of other materials).
-2D positions get z = 0.  Files are written atomically; the PVD (a time series
+2D positions get z = 0.  A case with a ``crs`` writes it into every file's
+field data (``crs``, the text's ASCII codes as UInt8: add_text_field).  Files are written atomically; the PVD (a time series
 index) is rewritten after each file so ParaView opens the run as an animation
 even while it is still running.
 """
@@ -31,6 +32,22 @@ def _pad3(a):
     out = np.zeros((n, 3))
     out[:, :d] = a
     return out
+
+
+def add_text_field(path, name: str, text: str) -> None:
+    """Put ``text`` into a VTU file's FieldData as a UInt8 array of its ASCII codes, named ``name``.
+
+    meshio writes no field data to VTU, and its reader refuses VTK's String arrays, so the text goes in
+    as bytes that both meshio (``mesh.field_data[name]``) and VTK (vtkXMLUnstructuredGridReader) read:
+    ``bytes(array).decode()`` gives it back.  Used for the case's CRS (docs/output-format.md)."""
+    xml = path.read_text(encoding="latin-1")
+    codes = " ".join(str(c) for c in text.encode("ascii"))
+    block = (f'<FieldData>\n<DataArray type="UInt8" Name="{name}" NumberOfTuples="{len(text)}" format="ascii">\n'
+             f"{codes}\n</DataArray>\n</FieldData>\n")
+    head = "<UnstructuredGrid>\n"
+    if head not in xml:
+        raise ValueError(f"{path}: no <UnstructuredGrid> element to add field data to")
+    path.write_text(xml.replace(head, head + block, 1), encoding="latin-1")
 
 
 def particle_fields(sim) -> dict[str, np.ndarray]:
@@ -81,6 +98,8 @@ class VtuWriter(Writer):
                            point_data=particle_fields(sim))
         with atomic_path(self.dir / fname) as tmp:
             meshio.write(tmp, mesh, file_format="vtu", binary=self.params.binary)
+            if sim.scene.crs:
+                add_text_field(tmp, "crs", sim.scene.crs)
         self.entries.append((sim.time, f"particles/{fname}"))
         self._write_pvd()
 
