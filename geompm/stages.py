@@ -67,6 +67,11 @@ class Stage(Plugin):
         """(largest |F| [N, N/m in 2D], its time [s]) for stages that take a force, else None."""
         return None
 
+    def hot_spot(self):
+        """(largest face pressure [Pa], its face centre [m] (3,), its time [s]) for a stage that spreads its
+        force on its faces (recorded.ContactForceStage), else None."""
+        return None
+
     def surface(self):
         """The stage's rigid surface for output (obstacles/tessellate.Surface, in the case's frame at t = 0),
         or None for a stage without one (damping, periodic)."""

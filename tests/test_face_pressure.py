@@ -20,6 +20,20 @@ from .test_obstacles import _drop
 SURFACES = [{"writer": "surfaces", "interval": 0.05}]
 
 
+class Balance:
+    """After each step: the largest |sum of the faces' forces - the stage's force| / |force| so far, and
+    the number of loaded steps."""
+
+    def __init__(self, stage):
+        self.stage, self.worst, self.loaded = stage, 0.0, 0
+
+    def __call__(self):
+        f = np.linalg.norm(self.stage.force)
+        if f > 0.0:
+            self.loaded += 1
+            self.worst = max(self.worst, np.linalg.norm(self.stage.face_force.sum(axis=0) - self.stage.force) / f)
+
+
 def _step_to(sim, end, each=None):
     while sim.time < end * (1 - 1e-12):
         sim.step(min(sim.stable_dt(), end - sim.time))
@@ -43,16 +57,9 @@ def test_face_forces_add_up_to_the_obstacle_force(dim, tmp_path):
     raw["outputs"] = SURFACES
     sim = Simulation(scene_from_dict(raw))
     ob = sim.scene.obstacles[0]
-    worst, loaded = [0.0], [0]
-
-    def check():
-        f = np.linalg.norm(ob.force)
-        if f > 0.0:
-            loaded[0] += 1
-            worst[0] = max(worst[0], np.linalg.norm(ob.face_force.sum(axis=0) - ob.force) / f)
-
+    check = Balance(ob)
     _step_to(sim, raw["time"]["end"], check)
-    assert loaded[0] > 10 and worst[0] < 1e-9
+    assert check.loaded > 10 and check.worst < 1e-9
     peak, where, when = ob.hot_spot()
     assert peak > 0.0 and where[1] == pytest.approx(top) and 0.0 < when <= raw["time"]["end"]
 
@@ -72,16 +79,9 @@ def test_check_dam_faces_add_up_at_every_step():
     raw = apply_overrides(raw, ["grid.cell_size=0.1", "time.end=2.0"])
     sim = Simulation(scene_from_dict(raw, root / "cases"))
     dam = sim.scene.obstacles[0]
-    worst, loaded = [0.0], [0]
-
-    def check():
-        f = np.linalg.norm(dam.force)
-        if f > 0.0:
-            loaded[0] += 1
-            worst[0] = max(worst[0], np.linalg.norm(dam.face_force.sum(axis=0) - dam.force) / f)
-
+    check = Balance(dam)
     _step_to(sim, 2.0, check)
-    assert loaded[0] > 100 and worst[0] < 1e-9
+    assert check.loaded > 100 and check.worst < 1e-9
     assert dam.hot_spot()[1][0] == pytest.approx(2.6, abs=1e-9)
 
 
@@ -138,19 +138,9 @@ def test_stream_pressure_at_the_stagnation_zone():
     shared/refdata/debris_flow_impact_design_formulas.csv).  Measured 0.66 and 0.82 rho v^2 (at h = 0.02,
     0.01, 0.005 m: mean 0.57, 0.66, 0.66; peak 0.87, 0.82, 0.82).  The design alpha of 1 to 2.5 in the
     stream test is the force per flow depth (here 1.11): the pressure spreads over the run-up, 2.5 d."""
-    V, D, RHO = 2.0, 0.1, 1000.0
-    case = {
-        "name": "stream", "dimension": 2,
-        "grid": {"origin": [0.0, 0.0], "extent": [1.6, 2.0], "cell_size": 0.01},
-        "time": {"end": 0.45, "cfl": 0.3}, "gravity": [0.0, -9.81],
-        "materials": {"water": {"model": "newtonian", "density": RHO, "viscosity": 1e-3, "sound_speed": 25.0}},
-        "bodies": [{"material": "water", "geometry": {"type": "box", "min": [0.1, 0.0], "max": [1.1, D]},
-                    "velocity": [V, 0.0]}],
-        "boundaries": [{"type": "wall", "side": "y-", "condition": "slip"},
-                       {"type": "wall", "side": "y+", "condition": "slip"}],
-        "obstacles": [{"type": "box", "name": "wall", "min": [1.4, -0.05], "max": [1.5, 2.05], "condition": "slip"}],
-        "outputs": SURFACES,
-    }
+    from .test_wall_force import D, RHO, V, stream_case
+
+    case = {**stream_case(), "outputs": SURFACES}
     sim = Simulation(scene_from_dict(case))
     ob = sim.scene.obstacles[0]
     acc, impulse, span = np.zeros(len(ob.face_area)), [0.0], [0.0]
@@ -182,20 +172,18 @@ def test_terrain_faces_carry_the_block(tmp_path):
     pytest.importorskip("rasterio")
     from .test_terrain import _block_case
 
-    case, down, height = _block_case(tmp_path, 30.0, 37.0, 0.3, "terrain")
+    case, _, _ = _block_case(tmp_path, 30.0, 37.0, 0.3, "terrain")
     case["outputs"] = SURFACES
     sim = Simulation(scene_from_dict(case, base_dir=tmp_path))
     ground = sim.scene.obstacles[0]
-    worst, path = [0.0], []
+    balance, path = Balance(ground), []
 
     def check():
-        f = np.linalg.norm(ground.force)
-        if f > 0.0:
-            worst[0] = max(worst[0], np.linalg.norm(ground.face_force.sum(axis=0) - ground.force) / f)
+        balance()
         path.append(sim.state.p_x.mean(axis=0))
 
     _step_to(sim, 0.3, check)
-    assert worst[0] < 1e-9 and ground.face_pmax.max() > 0.0
+    assert balance.loaded > 10 and balance.worst < 1e-9 and ground.face_pmax.max() > 0.0
     hot = ground.face_pmax > 0.01 * ground.face_pmax.max()
     from scipy.spatial import cKDTree
 

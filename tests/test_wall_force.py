@@ -18,8 +18,9 @@ from geompm.engine.scheduler import Simulation
 V, D, RHO = 2.0, 0.1, 1000.0
 
 
-def test_stream_force_on_wall_is_hydrodynamic():
-    case = {
+def stream_case() -> dict:
+    """The 2D stream (h = 0.01 m) and the slip wall 0.3 m ahead of it."""
+    return {
         "name": "stream", "dimension": 2,
         "grid": {"origin": [0.0, 0.0], "extent": [1.6, 2.0], "cell_size": 0.01},
         "time": {"end": 0.45, "cfl": 0.3}, "gravity": [0.0, -9.81],
@@ -30,7 +31,10 @@ def test_stream_force_on_wall_is_hydrodynamic():
                        {"type": "wall", "side": "y+", "condition": "slip"}],
         "obstacles": [{"type": "box", "name": "wall", "min": [1.4, -0.05], "max": [1.5, 2.05], "condition": "slip"}],
     }
-    sim = Simulation(scene_from_dict(case))
+
+
+def test_stream_force_on_wall_is_hydrodynamic():
+    sim = Simulation(scene_from_dict(stream_case()))
     obstacle = sim.scene.obstacles[0]
     impulse, span = 0.0, 0.0
     while sim.time < 0.45:
