@@ -67,6 +67,9 @@ class Stage(Plugin):
         """(largest |F| [N, N/m in 2D], its time [s]) for stages that take a force, else None."""
         return None
 
+    #: the faces its force is spread on (recorded.ContactForceStage.start_faces), None for every other stage
+    faces = None
+
     def hot_spot(self):
         """(largest face pressure [Pa], its face centre [m] (3,), its time [s]) for a stage that spreads its
         force on its faces (recorded.ContactForceStage), else None."""

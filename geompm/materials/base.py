@@ -81,8 +81,8 @@ class Material(Plugin):
 
     def alternatives(self) -> list[tuple[str, "Material"]]:
         """The same law under another integration, as (the JSON setting that selects it, the law so
-        set): `geompm validate` reports the time step each would take (engine/estimate.py).  None by
-        default; the yield-stress fluids offer the other of explicit and elasto-viscoplastic."""
+        set): `geompm validate` reports the time step each would take (engine/estimate.py).  None (an
+        empty list) by default; the yield-stress fluids offer the other of explicit and elasto-viscoplastic."""
         return []
 
     def warnings(self) -> list[str]:

@@ -55,8 +55,11 @@ def nearest_point(prm, shape0, w, base0, frac0, d):
     return flat
 
 
-#: samples of a contact point's patch (2 in 2D, 4 in 3D: at +-h/4 along each tangent), each with a face
-FACE_SAMPLES = {2: 2, 3: 4}
+def lattice_coords(lo, shape, h: float) -> np.ndarray:
+    """The (points, d) coordinates [m] of a lattice with first point lo, points per axis shape, spacing h,
+    in the flat order of the fields (the last axis fastest)."""
+    axes = [lo[a] + h * np.arange(shape[a]) for a in range(len(lo))]
+    return np.stack([m.ravel() for m in np.meshgrid(*axes, indexing="ij")], axis=1)
 
 
 def nearest_faces(surface, pts: np.ndarray) -> np.ndarray:
@@ -85,7 +88,7 @@ def nearest_faces(surface, pts: np.ndarray) -> np.ndarray:
 
 def face_lattice_ids(field: np.ndarray, lo, shape, h: float, surface, reach: float,
                      patch: float, inner: float = np.inf) -> np.ndarray:
-    """The field with FACE_SAMPLES[d] more columns: the faces that share the force recorded at each lattice
+    """The field with 2 (2D) or 4 (3D) more columns: the faces that share the force recorded at each lattice
     point with -inner <= phi <= reach [m] (-1 elsewhere: no contact force is recorded there).
 
     The point is projected on the surface, x - phi grad phi / |grad phi|^2, and its patch of width
@@ -95,11 +98,10 @@ def face_lattice_ids(field: np.ndarray, lo, shape, h: float, surface, reach: flo
     single nearest face would give all to one (a hydrostatic plate's raw pressure alternated between 0
     and twice its value that way)."""
     d = len(lo)
-    axes = [lo[a] + h * np.arange(shape[a]) for a in range(d)]
-    pts = np.stack([m.ravel() for m in np.meshgrid(*axes, indexing="ij")], axis=1)
+    pts = lattice_coords(lo, shape, h)
     phi, grad = field[:, 0], field[:, 1:d + 1]
-    k = FACE_SAMPLES[d]
-    ids = np.full((len(pts), k), -1.0)
+    signs = [(-1,), (1,)] if d == 2 else [(-1, -1), (-1, 1), (1, -1), (1, 1)]  # the samples, along the tangents
+    ids = np.full((len(pts), len(signs)), -1.0)
     near = (phi <= reach) & (phi >= -inner)
     g = grad[near]
     g2 = np.maximum((g ** 2).sum(axis=1), 1e-300)
@@ -113,7 +115,6 @@ def face_lattice_ids(field: np.ndarray, lo, shape, h: float, surface, reach: flo
         t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
         tangents = [t1, np.cross(n, t1)]
     q = 0.25 * patch
-    signs = [(-1,), (1,)] if d == 2 else [(-1, -1), (-1, 1), (1, -1), (1, 1)]
     for c, sg in enumerate(signs):
         sample = proj + sum(s * q * t for s, t in zip(sg, tangents))
         ids[near, c] = nearest_faces(surface, sample)
@@ -125,8 +126,7 @@ def sdf_lattice(sdf_fn, lo, hi, h):
     lo = np.asarray(lo, float) - 2 * h
     hi = np.asarray(hi, float) + 2 * h
     shape = np.ceil((hi - lo) / h).astype(np.int64) + 1
-    axes = [lo[a] + h * np.arange(shape[a]) for a in range(len(lo))]
-    pts = np.stack([m.ravel() for m in np.meshgrid(*axes, indexing="ij")], axis=1)
+    pts = lattice_coords(lo, shape, h)
     phi = np.asarray(sdf_fn(pts), dtype=float).reshape(tuple(shape))
     grads = np.gradient(phi, h)
     grads = grads if isinstance(grads, (list, tuple)) else [grads]

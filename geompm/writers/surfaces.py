@@ -55,7 +55,7 @@ class SurfacesWriter(Writer):
         files = []
         for sid, (label, stage, surf) in enumerate(self.parts):
             shift = stage.surface_shift(sim.time)
-            loaded = getattr(stage, "faces", None) is not None  # its pressures change: written every time
+            loaded = stage.faces is not None  # its pressures change: written every time
             if shift is None and not loaded and label in self.static:
                 files.append(self.static[label])
                 continue
