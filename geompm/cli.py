@@ -335,11 +335,15 @@ def cmd_plot(args) -> int:
 
 
 def cmd_plugins(args) -> int:
+    from .schema.load import BACKEND_KINDS
+
     for kind in registry.GROUPS:
         plugins = registry.available(kind)
         print(f"{registry.GROUPS[kind]}:")
         for name, info in sorted(plugins.items()):
-            print(f"  {name:<16} [{info.package}] {registry.describe(info.plugin)}")
+            backends = getattr(info.plugin, "backends", None) if kind in BACKEND_KINDS else None
+            on = f" (backends: {', '.join(backends)})" if backends else ""
+            print(f"  {name:<16} [{info.package}] {registry.describe(info.plugin)}{on}")
     return 0
 
 

@@ -38,6 +38,8 @@ MERGE, DAMPING, BOUNDARY, OBSTACLE = 0, 1, 2, 3
 
 class Stage(Plugin):
     phase: ClassVar[int] = BOUNDARY
+    #: the backends whose compilation of this stage's rules has been checked (as Material.backends)
+    backends: ClassVar[tuple[str, ...]] = ("cpu",)
 
     def __init__(self, params, label: str, json_path: str = ""):
         self.params = params
@@ -126,6 +128,9 @@ class GridStage(Stage):
     #: accumulator entries per thread; a stage may set its own in setup (an obstacle's per-face forces),
     #: before the backend plans its passes
     node_reduction: int = 0
+    #: the ``out`` slots that hold a maximum over the nodes (``out[k] = max(out[k], ...)``) rather than a
+    #: sum: a backend whose threads each hold one node (cuda) combines these with a maximum
+    node_maxima: ClassVar[tuple[int, ...]] = ()
 
     def grid_args(self, dt: float, time: float, remap: bool):
         """(prm, aux) for this pass, or None to skip it.  ``remap`` is True when the scheduler
@@ -156,6 +161,7 @@ class ParticleStage(Stage):
     particle_rule: ClassVar = None
     particle_scratch: ClassVar[int] = 0
     particle_reduction: int = 0  # as node_reduction
+    particle_maxima: ClassVar[tuple[int, ...]] = ()  # as node_maxima
 
     def particle_args(self, dt: float, time: float):
         """(prm, aux) for this pass, or None to skip it."""

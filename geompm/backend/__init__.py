@@ -4,7 +4,8 @@
 ``BACKENDS``.  The scheduler (engine/scheduler.py) drives a step through the
 backend's methods only (backend/base.py); health checks, writers and
 checkpoints read the particle arrays through ``Backend.host_state()`` at the
-times they run.  ``cpu`` (numba, every core) is the only backend so far.
+times they run.  ``cpu`` (numba, every core) and ``cuda`` (numba-cuda, backend/cuda.py; the
+optional extra ``geompm[cuda]``, imported only when a case asks for it).
 """
 
 from .base import Backend
@@ -14,4 +15,8 @@ BACKENDS: dict[str, type[Backend]] = {CpuBackend.name: CpuBackend}
 
 
 def make_backend(scene, split_force: bool, nchunks: int | None = None) -> Backend:
+    if scene.backend == "cuda" and "cuda" not in BACKENDS:  # numba-cuda is an optional extra: imported on use
+        from .cuda import CudaBackend
+
+        BACKENDS["cuda"] = CudaBackend
     return BACKENDS[scene.backend](scene, split_force, nchunks)

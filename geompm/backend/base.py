@@ -30,6 +30,13 @@ class Backend:
     #: after a restore): the time step then takes it from the particles
     max_rate: float | None = None
 
+    def stable_dt(self) -> float:
+        """The next step [s] (engine/timestep.py) from the particles' speeds, densities and the last
+        stress update's largest |L_ii|; a device backend overrides it with its own reductions."""
+        from ..engine.timestep import stable_dt
+
+        return stable_dt(self.scene, self.host_state(), self.max_rate)
+
     def host_state(self):
         """The particle arrays as host (numpy) arrays: read by health checks, writers and checkpoints."""
         raise NotImplementedError

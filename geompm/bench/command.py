@@ -46,6 +46,10 @@ def add_parser(sub) -> None:
     p.add_argument("--json", action="store_true", help="one JSON object per measurement on its own line")
     p.add_argument("--no-cold", action="store_true", help="skip the cold/warm start-up measurements")
     p.add_argument("--list", action="store_true", help="list the scenes and exit")
+    p.add_argument("--backend", choices=("cpu", "cuda"), help="run every scene on this solver.backend "
+                   "(default: each case's own, cpu)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a value in every scene's case, "
+                   "after the scene's own (e.g. grid.cell_size=0.0078125)")
     p.add_argument("--no-bandwidth", action="store_true", help="skip the memory-bandwidth (STREAM triad) measurement")
     p.set_defaults(func=cmd_bench)
 
@@ -179,6 +183,7 @@ def cmd_bench(args) -> int:
         spec = scenes[name]
         results = []
         for label, case, sets, steps, permute in measurements(name, spec, folder, args.steps):
+            sets = sets + list(args.set or []) + ([f"solver.backend={args.backend}"] if args.backend else [])
             r = run_worker(case, sets, steps, permute=permute)
             r["scene"] = label
             if spec.get("cold_start") and not args.no_cold and "error" not in r:

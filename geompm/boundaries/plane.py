@@ -46,6 +46,7 @@ class PlaneParams(Params):
 
 class Plane(HalfSpace):
     name = "plane"
+    backends = ("cpu", "cuda")  # checked against the CPU under numba-cuda's simulator (tests/cuda_parity.py)
     description = "Rigid plane of any orientation (point, normal): slip, fixed or Coulomb friction"
     Params = PlaneParams
 

@@ -42,6 +42,7 @@ def scale_velocity(prm, aux, dt, k, x, x0, v, C, m, s, work, out):
 
 class ArtificialDamping(ParticleStage):
     name = "artificial"
+    backends = ("cpu", "cuda")  # checked against the CPU under numba-cuda's simulator (tests/cuda_parity.py)
     description = "Linear artificial damping f = -zeta m v, zeta = xi/h sqrt(E/rho) (source eqs. 7-8)"
     Params = ArtificialParams
     phase = DAMPING

@@ -81,23 +81,25 @@ class GridBuffers:
 
     def window(self, p_x) -> GridView:
         """Window covering every particle's stencil; error if a particle left the grid."""
-        spec = self.spec
-        b = cell_bounds(p_x, spec.origin, 1.0 / spec.h)
-        if (b[0] < -1).any() or (b[1] > spec.ncells).any():
-            lo_b = spec.origin - spec.h
-            hi_b = spec.upper + spec.h
-            p = first_outside(p_x, lo_b, hi_b)
-            raise SimulationError(
-                f"particle {p} at x = {np.array2string(p_x[p], precision=4)} m left the grid "
-                f"[{np.array2string(spec.origin, precision=4)}, {np.array2string(spec.upper, precision=4)}] m; "
-                "enlarge grid.extent or add wall boundaries"
-            )
-        lo = (b[0] - 1).astype(np.int64)
-        nloc = (b[1] - b[0] + 4).astype(np.int64)
+        lo, nloc = window_extent(self.spec, cell_bounds(p_x, self.spec.origin, 1.0 / self.spec.h), lambda: p_x)
         nn = int(np.prod(nloc))
         if nn > self.cap:
             self._alloc(int(nn * 1.25) + 64)
         split = self.split
-        return GridView(spec, lo, nloc, self.g_mass[:nn], self.g_mom[:nn],
+        return GridView(self.spec, lo, nloc, self.g_mass[:nn], self.g_mom[:nn],
                         self.g_force[:nn] if split else None, self.g_vel[:nn],
                         self.g_vel_old[:nn] if split else None)
+
+
+def window_extent(spec: GridSpec, b: np.ndarray, positions) -> tuple[np.ndarray, np.ndarray]:
+    """(lo, nloc) of the window over the particles' cell bounds ``b`` (2, d) (kernels/reduce.cell_bounds);
+    SimulationError naming the first particle outside the grid (``positions()``: the host p_x) if one is."""
+    if (b[0] < -1).any() or (b[1] > spec.ncells).any():
+        p_x = positions()
+        p = first_outside(p_x, spec.origin - spec.h, spec.upper + spec.h)
+        raise SimulationError(
+            f"particle {p} at x = {np.array2string(p_x[p], precision=4)} m left the grid "
+            f"[{np.array2string(spec.origin, precision=4)}, {np.array2string(spec.upper, precision=4)}] m; "
+            "enlarge grid.extent or add wall boundaries"
+        )
+    return (b[0] - 1).astype(np.int64), (b[1] - b[0] + 4).astype(np.int64)

@@ -24,7 +24,6 @@ from __future__ import annotations
 from ..backend import make_backend
 from ..kernels.reduce import kinetic_energy, max_coordinate
 from ..stages import GridStage, ParticleStage
-from .timestep import stable_dt
 
 
 class Simulation:
@@ -52,7 +51,7 @@ class Simulation:
         return self.backend.buffers
 
     def stable_dt(self) -> float:
-        return stable_dt(self.scene, self.state, self.backend.max_rate)
+        return self.backend.stable_dt()
 
     def _begin(self, dt):
         every = self.scene.sort_interval

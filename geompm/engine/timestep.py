@@ -58,9 +58,19 @@ def stable_dt(scene, state, rate: float | None = None) -> float:
     stress loop finds it as a by-product); otherwise it is taken from the particles."""
     if scene.dt_fixed is not None:
         return scene.dt_fixed
-    dt = min(wave_limit(scene, state), viscous_limit(scene))
     if rate is None:
         rate = max_rate(state.p_L) if state.n else 0.0
+    speed = wave_speed(scene, state) + (max_speed(state.p_v) if state.n else 0.0)
+    return step_limit(scene, speed, rate)
+
+
+def step_limit(scene, speed: float, rate: float) -> float:
+    """The next step [s] from the largest c_p + |v_p| [m/s] and the largest |L_ii| [1/s]: the limits of
+    the module docstring (a backend that reduces on its device calls this with its own reductions)."""
+    if scene.dt_fixed is not None:
+        return scene.dt_fixed
+    wave = scene.cfl * scene.grid.h / speed if speed > 0.0 else float("inf")
+    dt = min(wave, viscous_limit(scene))
     if rate > 0.0:
         dt = min(dt, STRAIN_INCREMENT / rate)
     if scene.dt_max is not None:

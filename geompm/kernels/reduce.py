@@ -27,11 +27,21 @@ def cell_bounds(p_x, origin, inv_h):
                 part[c, 0, a] = min(part[c, 0, a], x)
                 part[c, 1, a] = max(part[c, 1, a], x)
                 part[c, 2, a] += x
+    lo, hi, total = np.empty(d), np.empty(d), np.empty(d)
+    for a in range(d):
+        lo[a], hi[a], total[a] = part[:, 0, a].min(), part[:, 1, a].max(), part[:, 2, a].sum()
+    return cells_of_bounds(lo, hi, total, origin, inv_h)
+
+
+@njit(cache=True)
+def cells_of_bounds(lo, hi, total, origin, inv_h):
+    """cell_bounds from the coordinates' minima, maxima and sums per axis (d,) (a device backend's
+    reduction): floor((x - origin)/h), or -+2^61 where the sum is not finite."""
+    d = lo.shape[0]
     out = np.empty((2, d), np.int64)
     for a in range(d):
-        lo, hi, total = part[:, 0, a].min(), part[:, 1, a].max(), part[:, 2, a].sum()
-        ilo, ihi = (lo - origin[a]) * inv_h, (hi - origin[a]) * inv_h
-        if not (math.isfinite(total) and abs(ilo) < 1e17 and abs(ihi) < 1e17):
+        ilo, ihi = (lo[a] - origin[a]) * inv_h, (hi[a] - origin[a]) * inv_h
+        if not (math.isfinite(total[a]) and abs(ilo) < 1e17 and abs(ihi) < 1e17):
             out[0, a], out[1, a] = -(2 ** 61), 2 ** 61
         else:
             out[0, a], out[1, a] = math.floor(ilo), math.floor(ihi)

@@ -49,6 +49,10 @@ class Material(Plugin):
     #: whether stress depends on the deformation rate (then stress can change at zero L)
     rate_dependent: ClassVar[bool] = False
 
+    #: the backends whose compilation of particle_stress has been checked (geompm plugins lists them;
+    #: a case on another backend is refused): a law in the CUDA subset (no array creation, no
+    #: np.linalg, no Python objects) checked against the CPU under numba-cuda's simulator may add "cuda"
+    backends: ClassVar[tuple[str, ...]] = ("cpu",)
     #: names of the packed parameters (layout.py)
     layout: ClassVar = param_layout("density")
     #: the per-particle @njit functions (module docstring)

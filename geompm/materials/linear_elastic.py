@@ -33,6 +33,7 @@ def elastic_stress(prm, dt, L, rho, s, state):
 
 class LinearElastic(Material):
     name = "linear_elastic"
+    backends = ("cpu", "cuda")  # checked against the CPU under numba-cuda's simulator (tests/cuda_parity.py)
     description = "Isotropic linear elasticity (Hooke) in rate form with the Jaumann stress rate"
     Params = LinearElasticParams
     layout = ELASTIC

@@ -76,6 +76,9 @@ class RigidObstacle(ContactForceStage):
     guard of guard.py, after G2P); the force history is the sum of both."""
 
     Params = ObstacleParams
+    #: the rules are this base's (a subclass gives host-side geometry only): checked against the CPU under
+    #: numba-cuda's simulator (tests/cuda_parity.py)
+    backends = ("cpu", "cuda")
     node_rule = obstacle_node_rule
     node_scratch = 7 * 3 + 1
     particle_rule = guard_rule

@@ -34,6 +34,7 @@ class ContactForceStage(GridStage, ParticleStage):
     phase = OBSTACLE_PHASE
     node_reduction = FORCE_SLOTS
     particle_reduction = DEPTH + 1
+    particle_maxima = (DEPTH,)  # the deepest penetration is a maximum, not a sum (stages.py)
     kind = "obstacle"  # how the run's summary names it
     #: the surface's prescribed velocity [m/s] (zeros: at rest)
     vel: np.ndarray

@@ -159,6 +159,7 @@ def terrain_guard_rule(prm, z, dt, k, x, x0, v, C, m, s, work, out):
 
 class Terrain(ContactForceStage):
     name = "terrain"
+    backends = ("cpu", "cuda")  # checked against the CPU under numba-cuda's simulator (tests/cuda_parity.py)
     description = "Rigid terrain from a DEM (GeoTIFF / ESRI ASCII grid): Coulomb friction, force history (3D)"
     Params = TerrainParams
     node_rule = terrain_node_rule

@@ -84,8 +84,10 @@ class SolverSpec(Strict):
     update: Literal["usl", "musl"] = Field(
         "usl", description="Stress update order: USL (update stress last) or MUSL (modified USL)"
     )
-    backend: Literal["cpu"] = Field(
-        "cpu", description="Where the step's kernels run: 'cpu' (numba, all cores) is the only backend so far")
+    backend: Literal["cpu", "cuda"] = Field(
+        "cpu", description="Where the step's kernels run: 'cpu' (numba, all cores) or 'cuda' (an NVIDIA GPU "
+        "through numba-cuda: pip install 'geompm[cuda]'; NUMBA_ENABLE_CUDASIM=1 runs it on numba-cuda's "
+        "simulator, slowly, for tests; docs/performance.md)")
     sort_interval: int = Field(
         100, ge=0, description="Re-order the particles of each material by grid cell every this many steps "
         "(cache locality of the particle-grid transfers once a flow has mixed them; docs/performance.md); "

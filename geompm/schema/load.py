@@ -131,6 +131,11 @@ def _plugin_params(kind, key, spec, path, case, problems) -> Resolved | None:
     except CaseError as exc:
         problems.extend(exc.problems)
         return None
+    if case is not None and kind in BACKEND_KINDS and case.solver.backend not in cls.backends:
+        problems.append((join_path(path, key), f"plugin '{name}' runs on the {' and '.join(cls.backends)} backend(s), "
+                                               f"not on solver.backend '{case.solver.backend}': its per-item "
+                                               "functions have not been checked on it (the class attribute "
+                                               "'backends'); use solver.backend \"cpu\""))
     extra = dict(spec.model_extra or {})
     try:
         params = cls.Params.model_validate(extra)
@@ -240,6 +245,29 @@ _PLUGIN_LISTS = (
 )
 
 
+#: the plugin kinds whose functions a backend compiles (writers run on the host)
+BACKEND_KINDS = ("materials", "boundaries", "obstacles", "damping")
+
+
+def _backend_problem(case: Case) -> str | None:
+    """Why solver.backend cannot run here, or None."""
+    if case.solver.backend != "cuda":
+        return None
+    import importlib.util
+    import os
+
+    if importlib.util.find_spec("numba_cuda") is None:
+        return "needs numba-cuda, which is not installed: pip install 'geompm[cuda]'"
+    if os.environ.get("NUMBA_ENABLE_CUDASIM", "0") not in ("", "0"):
+        return None
+    from numba import cuda
+
+    if not cuda.is_available():
+        return ("no CUDA GPU or driver found (numba.cuda.is_available() is False); use solver.backend \"cpu\", "
+                "or set NUMBA_ENABLE_CUDASIM=1 to run on numba-cuda's simulator (slow: for tests)")
+    return None
+
+
 def _plugin_pass(raw: dict, case, loaded, problems) -> None:
     """Resolve and validate every plugin entry that is well formed in ``raw``.
 
@@ -304,6 +332,9 @@ def _parse_valid_numbers(raw: dict, base_dir: Path) -> LoadedCase:
                                             "'quadratic' or 'cubic'; use 'apic' with 'linear'"))
     for i, body in enumerate(case.bodies):
         _check_body(i, body, case, base_dir, problems)
+    why = _backend_problem(case)
+    if why:
+        problems.append(("solver.backend", why))
     loaded = LoadedCase(case=case, base_dir=base_dir, raw=raw, warnings=ineffective_settings(raw, case))
     _plugin_pass(raw, case, loaded, problems)
     problems.extend(duplicate_labels(loaded))

@@ -1,0 +1,30 @@
+#!/bin/sh
+# The GPU check of issue 21, for one machine with an NVIDIA GPU and no network (run from the repository root):
+#   sh benchmarks/device/run.sh [OUTDIR]
+# Installs geompm and numba-cuda from the wheels in benchmarks/device/wheels/ (not committed: fill it on a
+# machine with network with `pip download -d benchmarks/device/wheels -e '.[cuda]' numba-cuda`), prints the GPU,
+# benchmarks fluid3d and dp3d on the cuda backend at 64, 128 and 256 cells per side (204k, 1.6M, 13M
+# particles), float64, checks CPU against CUDA on the tiny scenes and on cases/dam_break.json after 200 steps,
+# and ends in under 8 minutes.  Everything it prints is also written to OUTDIR/gpu_check.log.
+set -u
+out=${1:-${OUT:-benchmarks/results}}
+mkdir -p "$out"
+log="$out/gpu_check.log"
+here=$(cd "$(dirname "$0")" && pwd)
+{
+  date -u
+  nvidia-smi --query-gpu=name,memory.total,driver_version,clocks.max.sm --format=csv || echo "nvidia-smi failed"
+  python3 -m venv /tmp/geompm-gpu && . /tmp/geompm-gpu/bin/activate
+  pip install -q --no-index --find-links "$here/wheels" -e '.[cuda]' || { echo "install from wheels failed"; exit 2; }
+  python -c "import numba, numba_cuda; from numba import cuda; print('numba', numba.__version__, 'numba-cuda', numba_cuda.__version__); cuda.detect()"
+  export PYTHONUNBUFFERED=1
+  for n in 64 128 256; do
+    h=$(python3 -c "print(1/$n)")
+    steps=$([ $n = 256 ] && echo 20 || echo 50)
+    timeout 150 geompm bench --backend cuda --scene fluid3d --scene dp3d --no-cold --no-bandwidth --steps $steps \
+      --json --set grid.cell_size=$h || echo "bench at $n cells per side failed or timed out"
+  done
+  timeout 120 python tests/cuda_parity.py --steps 3 || echo "tiny-scene parity failed"
+  timeout 120 python tests/cuda_parity.py --steps 200 --case cases/dam_break.json || echo "dam-break parity failed"
+  date -u
+} 2>&1 | tee "$log"

@@ -1,0 +1,246 @@
+"""The CUDA backend (numba-cuda, the optional extra ``geompm[cuda]``): the step's kernels on a GPU.
+
+The particle arrays the step changes (p_x, p_x0, p_v, p_C, p_mass, p_vol,
+p_rho, p_stress, p_L and each block's state variables) live on the device;
+the host ``ParticleState`` stays the canonical copy for everything else
+(ids, bodies, writers, checkpoints).  ``host_state()`` copies the device
+arrays into it and marks the host as current; the next kernel uploads the
+host arrays again first, so whatever the host did in between (a checkpoint
+restored, particles deleted by the health check, the spatial sort) reaches
+the device.  Between output, series, health and sort times a step therefore
+moves only a few numbers to the host: the grid window's bounds, the time
+step's speed and density extremes and largest |L_ii|, and each stage's
+reduction row.
+
+Kernels: P2G by atomics, the grid update and G2P (backend/cuda_kernels.py);
+one kernel per law and per stage function around the plugin's own
+``@njit`` per-item function (backend/cuda_loops.py).  The stage's ``prm``
+and ``aux`` go to the device at every pass (they may change between steps).
+
+Not built yet (issue 21): the counting sort on the device (the sort runs on
+the host, every ``solver.sort_interval`` steps), shared-memory P2G,
+float32, and a measurement on a GPU.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import cuda
+
+from ..engine.grid import GridView, window_extent
+from ..engine.timestep import step_limit
+from ..kernels.reduce import cells_of_bounds, max_rate
+from ..kernels.shape import support
+from ..kernels.stencil import SCHEMES
+from ..stages import FAR_NODE
+from . import cuda_kernels as K
+from . import cuda_loops
+from .base import Backend
+
+#: the particle arrays that live on the device
+DEVICE_ARRAYS = ("p_x", "p_x0", "p_v", "p_C", "p_mass", "p_vol", "p_rho", "p_stress", "p_L")
+
+
+class _DeviceGrid:
+    """The grid window's device arrays, grown geometrically (engine/grid.GridBuffers on the host)."""
+
+    nchunks = 1  # one grid: P2G adds with atomics
+
+    def __init__(self, spec, split: bool):
+        self.spec, self.split, self.cap = spec, split, 0
+        self._alloc(1024)
+
+    def _alloc(self, cap):
+        d = self.spec.dim
+        self.cap = cap
+        self.g_mass = cuda.device_array(cap)
+        self.g_mom = cuda.device_array((cap, d))
+        self.g_force = cuda.device_array((cap if self.split else 1, d))
+        self.g_vel = cuda.device_array((cap, d))
+        self.g_vel_old = cuda.device_array((cap if self.split else 1, d))
+
+    def nbytes(self) -> int:
+        return sum(a.nbytes for a in (self.g_mass, self.g_mom, self.g_force, self.g_vel, self.g_vel_old))
+
+    def view(self, lo, nloc) -> GridView:
+        nn = int(np.prod(nloc))
+        if nn > self.cap:
+            self._alloc(int(nn * 1.25) + 64)
+        s = self.split
+        return GridView(self.spec, lo, nloc, self.g_mass[:nn], self.g_mom[:nn], self.g_force[:nn] if s else None,
+                        self.g_vel[:nn], self.g_vel_old[:nn] if s else None)
+
+
+class CudaBackend(Backend):
+    name = "cuda"
+
+    def __init__(self, scene, split_force: bool, nchunks: int | None = None):
+        self.scene = scene
+        self.state = scene.state
+        self.split_force = split_force
+        g = scene.grid
+        self.S = support(g.kind)
+        self.mode = SCHEMES.index(scene.transfer)
+        self.buffers = _DeviceGrid(g, split_force)
+        self.mass_eps = 1e-9 * float(self.state.p_mass.min()) if self.state.n else 0.0
+        self.max_rate = None
+        self._origin = cuda.to_device(np.ascontiguousarray(g.origin, dtype=np.float64))
+        self._gravity = cuda.to_device(np.ascontiguousarray(scene.gravity, dtype=np.float64))
+        self._prm = [cuda.to_device(m.prm) for m in scene.materials]
+        self._laws = [cuda_loops.stress_kernel(type(m)) for m in scene.materials]
+        self._dev: dict = {}
+        self._dev_state: list = []
+        self._on_host = True  # the host arrays are current; the next kernel uploads them
+
+    # -- host <-> device -------------------------------------------------------------------------------
+    def _device(self) -> dict:
+        if self._on_host:
+            st = self.state
+            self._dev = {k: cuda.to_device(np.ascontiguousarray(getattr(st, k))) for k in DEVICE_ARRAYS}
+            self._dev_state = [cuda.to_device(np.ascontiguousarray(sv)) for sv in st.p_state]
+            self._on_host = False
+        return self._dev
+
+    def host_state(self):
+        if not self._on_host:
+            st = self.state
+            for k, d in self._dev.items():
+                setattr(st, k, d.copy_to_host())
+            st.p_state = [d.copy_to_host() for d in self._dev_state]
+            self._on_host = True
+        return self.state
+
+    def nbytes(self) -> int:
+        return self.state.nbytes() + self.buffers.nbytes()
+
+    # -- the step ---------------------------------------------------------------------------------------
+    def window(self):
+        dev, st, spec = self._device(), self.state, self.scene.grid
+        d = spec.dim
+        out = np.empty((3, d))
+        out[0], out[1], out[2] = np.inf, -np.inf, 0.0
+        red = cuda.to_device(out)
+        if st.n:
+            K.bounds[K.blocks(st.n), K.THREADS](dev["p_x"], red)
+        r = red.copy_to_host()
+        b = cells_of_bounds(r[0], r[1], r[2], spec.origin, 1.0 / spec.h)
+        lo, nloc = window_extent(spec, b, lambda: self.host_state().p_x)
+        return self.buffers.view(lo, nloc)
+
+    def p2g(self, view, f_scale: float) -> None:
+        dev, st, g = self._device(), self.state, self.scene.grid
+        nn = view.g_mass.shape[0]
+        force = view.g_force if self.split_force else view.g_mom
+        K.zero_grid[K.blocks(nn), K.THREADS](view.g_mass, view.g_mom, force, self.split_force)
+        if st.n:
+            K.p2g[K.blocks(st.n), K.THREADS](
+                self.S, self.mode, dev["p_x"], dev["p_v"], dev["p_C"], dev["p_mass"], dev["p_vol"], dev["p_stress"],
+                self._origin, g.h, g.kind, cuda.to_device(view.lo), cuda.to_device(view.nloc), self.split_force,
+                f_scale, self.scene.apic_dinv, view.g_mass, view.g_mom, force)
+
+    def grid_update(self, view, dt: float) -> None:
+        nn = view.g_mass.shape[0]
+        split = self.split_force
+        K.grid_update[K.blocks(nn), K.THREADS](
+            view.g_mass, view.g_mom, view.g_force if split else view.g_mom, self._gravity, dt, self.mass_eps, split,
+            view.g_vel, view.g_vel_old if split else view.g_vel)
+
+    def remap_velocity(self, view) -> None:
+        nn = view.g_mass.shape[0]
+        K.momentum_to_velocity[K.blocks(nn), K.THREADS](view.g_mass, view.g_mom, self.mass_eps, view.g_vel)
+
+    def g2p(self, view, dt: float, set_velocity: bool, move: bool, gradient: bool) -> None:
+        dev, st, sc, g = self._device(), self.state, self.scene, self.scene.grid
+        if not st.n:
+            return
+        g_vel_old = view.g_vel_old if self.split_force else view.g_vel
+        ratio = sc.flip_ratio if sc.flip_tau is None else float(np.exp(-dt / sc.flip_tau))
+        K.g2p[K.blocks(st.n), K.THREADS](
+            self.S, self.mode, dev["p_x"], dev["p_v"], dev["p_C"], dev["p_L"], dev["p_vol"], dev["p_rho"],
+            dev["p_mass"], view.g_vel, g_vel_old, self._origin, g.h, g.kind, cuda.to_device(view.lo),
+            cuda.to_device(view.nloc), dt, ratio, sc.apic_dinv, set_velocity, move, gradient)
+
+    def update_stress(self, dt: float) -> None:
+        dev = self._device()
+        rate = cuda.to_device(np.zeros(1))
+        for law, prm, (s, e), sv in zip(self._laws, self._prm, self.state.blocks, self._dev_state):
+            if e > s:
+                law[K.blocks(e - s), K.THREADS](prm, dt, dev["p_L"][s:e], dev["p_rho"][s:e], dev["p_stress"][s:e],
+                                                 sv, rate)
+        self.max_rate = float(rate.copy_to_host()[0])
+
+    def stable_dt(self) -> float:
+        sc, st = self.scene, self.state
+        if sc.dt_fixed is not None:
+            return sc.dt_fixed
+        dev = self._device()
+        nb = len(st.blocks)
+        red = cuda.to_device(np.full(1 + 2 * nb, -np.inf))
+        for k, (s, e) in enumerate(st.blocks):
+            if e > s:
+                K.speed_and_density[K.blocks(e - s), K.THREADS](dev["p_v"], dev["p_rho"], s, e, k, red)
+        r = red.copy_to_host()
+        c = 0.0
+        for k, (mat, (s, e)) in enumerate(zip(sc.materials, st.blocks)):
+            if e > s:
+                wave = type(mat).particle_wave_speed
+                c = max(c, wave(mat.prm, -r[1 + 2 * k]), wave(mat.prm, r[2 + 2 * k]))
+        speed = c + (float(r[0]) if st.n else 0.0)
+        if self.max_rate is None:  # before the first step, after a restore: from the particles
+            self.max_rate = max_rate(self.host_state().p_L) if st.n else 0.0
+        return step_limit(sc, speed, self.max_rate)
+
+    def sort_particles(self) -> None:
+        st = self.host_state()  # on the host for now (module docstring)
+        st.sort_by_cell(self.scene.grid.origin, self.scene.grid.h)
+
+    # -- stages ------------------------------------------------------------------------------------------
+    def grid_stage(self, stage, view, dt: float, time: float, remap: bool) -> None:
+        args = stage.grid_args(dt, time, remap)
+        if args is None:
+            return
+        cls = type(stage)
+        nn = view.g_mass.shape[0]
+        lo, nloc = cuda.to_device(view.lo), cuda.to_device(view.nloc)
+        if cls.node_image is not None:
+            kern = cuda_loops.merge_kernel(cls.node_image)
+            fold = view.g_vel_old is not None
+            kern[K.blocks(nn), K.THREADS](cuda.to_device(args[0]), lo, nloc, view.g_mass, view.g_vel,
+                                          view.g_vel_old if fold else view.g_vel, fold)
+            return
+        prm, aux = args
+        d = self.scene.dim
+        box = stage.node_box(time)
+        first, last = (np.full(d, -FAR_NODE), np.full(d, FAR_NODE)) if box is None else box
+        b0 = np.minimum(np.maximum(np.asarray(first) - view.lo, 0), view.nloc)
+        bn = np.maximum(np.minimum(np.asarray(last) - view.lo + 1, view.nloc) - b0, 0)
+        total = int(np.prod(bn))
+        slots = max(stage.node_reduction, 1)
+        out = cuda.to_device(np.zeros(slots))
+        if total:
+            kern = cuda_loops.node_kernel(cls.node_rule, cls.node_scratch, slots, cls.node_maxima)
+            v_old = view.g_vel_old if view.g_vel_old is not None else view.g_vel
+            f = view.g_force if view.g_force is not None else view.g_vel
+            kern[K.blocks(total), K.THREADS](
+                cuda.to_device(np.ascontiguousarray(prm)), cuda.to_device(np.ascontiguousarray(aux)), dt,
+                self._origin, self.scene.grid.h, lo, nloc, cuda.to_device(b0.astype(np.int64)),
+                cuda.to_device(bn.astype(np.int64)), total, view.g_mass, view.g_vel, v_old, f, out)
+        stage.grid_reduced(out.copy_to_host().reshape(1, slots), dt, time, remap)
+
+    def particle_stage(self, stage, dt: float, time: float) -> None:
+        args = stage.particle_args(dt, time)
+        if args is None:
+            return
+        dev, st, cls = self._device(), self.state, type(stage)
+        prm, aux = (cuda.to_device(np.ascontiguousarray(a)) for a in args)
+        slots = max(stage.particle_reduction, 1)
+        out = cuda.to_device(np.zeros(slots))
+        kern = cuda_loops.particle_kernel(cls.particle_rule, max(cls.particle_scratch, 1), slots,
+                                          cls.particle_maxima)
+        for k in stage.particle_blocks(len(st.blocks)):
+            s, e = st.blocks[k]
+            if e > s:
+                kern[K.blocks(e - s), K.THREADS](prm, aux, dt, k, s, e, dev["p_x"], dev["p_x0"], dev["p_v"],
+                                                 dev["p_C"], dev["p_mass"], dev["p_stress"], out)
+        stage.particle_reduced(out.copy_to_host().reshape(1, slots), dt, time)
+

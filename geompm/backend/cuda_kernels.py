@@ -1,0 +1,292 @@
+"""The CUDA backend's own kernels (numba-cuda): P2G by atomics, the grid update, G2P fused with the
+volume update, and the reductions the time step and the grid window need.
+
+One thread per particle (P2G, G2P) or per node (grid update).  The arithmetic
+is that of the dimension-generic reference (tests/reference_transfer.py) and
+of the CPU kernels (kernels/transfer2d.py, transfer3d.py): weights from the
+same B-splines (kernels/shape.py), MLS pseudo-gradients D^-1 w (x_i - x_p),
+APIC's C = sum w v_i (x_i - x_p)^T D^-1, FLIP's blend, and
+V <- V det(I + dt L).  P2G adds into one grid with atomics, so the sums per
+node are taken in thread order: results equal the CPU's to round-off, not
+bit for bit.  Shapes: ``d`` (2 or 3) is read from the arrays; per-thread
+scratch is a local array of the largest size (3 axes, 4 weights).
+
+Arrays are as on the CPU (engine/state.py, engine/grid.py): p_x (n, d),
+p_C (n, d, d), p_L (n, 3, 3), p_stress (n, 6) Voigt (xx, yy, zz, xy, yz, xz),
+g_mass (nn,), g_mom / g_force / g_vel / g_vel_old (nn, d) over the window
+[lo, lo + nloc) of global nodes, last axis fastest.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+from numba import cuda, float64, int64
+
+#: threads per block of every launch (the simulator runs each thread as a Python thread: fewer there)
+THREADS = 32 if os.environ.get("NUMBA_ENABLE_CUDASIM", "0") not in ("", "0") else 128
+
+
+def blocks(n: int) -> int:
+    return max(1, (n + THREADS - 1) // THREADS)
+
+
+@cuda.jit(device=True)
+def _axis(xi, kind, inv_h, w, dw):
+    """Weights w[0..3] and derivatives dw [1/m] of the nodes base.. at xi = (x - origin)/h: the
+    B-splines of kernels/shape.axis_stencil (linear 0, quadratic 1, cubic 2); returns base."""
+    if kind == 1:
+        base = math.floor(xi - 0.5)
+        f = xi - base
+        a = 1.5 - f
+        b = f - 1.0
+        c = f - 0.5
+        w[0], w[1], w[2], w[3] = 0.5 * a * a, 0.75 - b * b, 0.5 * c * c, 0.0
+        dw[0], dw[1], dw[2], dw[3] = -a * inv_h, -2.0 * b * inv_h, c * inv_h, 0.0
+        return int(base)
+    if kind == 0:
+        base = math.floor(xi)
+        f = xi - base
+        w[0], w[1], w[2], w[3] = 1.0 - f, f, 0.0, 0.0
+        dw[0], dw[1], dw[2], dw[3] = -inv_h, inv_h, 0.0, 0.0
+        return int(base)
+    base = math.floor(xi) - 1
+    f = xi - base
+    r0, r1, r2, r3 = f, f - 1.0, 2.0 - f, 3.0 - f
+    t0, t3 = 2.0 - r0, 2.0 - r3
+    w[0] = t0 * t0 * t0 / 6.0
+    w[1] = 0.5 * r1 * r1 * r1 - r1 * r1 + 2.0 / 3.0
+    w[2] = 0.5 * r2 * r2 * r2 - r2 * r2 + 2.0 / 3.0
+    w[3] = t3 * t3 * t3 / 6.0
+    dw[0] = -0.5 * t0 * t0 * inv_h
+    dw[1] = (1.5 * r1 * r1 - 2.0 * r1) * inv_h
+    dw[2] = -(1.5 * r2 * r2 - 2.0 * r2) * inv_h
+    dw[3] = 0.5 * t3 * t3 * inv_h
+    return int(base)
+
+
+@cuda.jit(device=True)
+def _voigt(a, b):
+    """Voigt column of the tensor entry (a, b): xx yy zz xy yz xz (kernels/voigt.py)."""
+    if a == b:
+        return a
+    s = a + b
+    if s == 1:
+        return 3
+    if s == 3:
+        return 4
+    return 5
+
+
+@cuda.jit(device=True)
+def _node(s, S, d, base, lo, nloc, w, dw, k, gw):
+    """Flat window index and weight of stencil entry s (last axis fastest); gradient into gw."""
+    t = s
+    for a in range(d - 1, -1, -1):
+        k[a] = t % S
+        t //= S
+    idx = 0
+    wt = 1.0
+    for a in range(d):
+        wt *= w[a, k[a]]
+        idx = idx * nloc[a] + (base[a] + k[a] - lo[a])
+    for a in range(d):
+        g = dw[a, k[a]]
+        for b in range(d):
+            if b != a:
+                g *= w[b, k[b]]
+        gw[a] = g
+    return idx, wt
+
+
+@cuda.jit
+def p2g(S, mode, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc, split, f_scale, dinv,
+        g_mass, g_mom, g_force):
+    """m_i += w m_p; (mv)_i += w m_p (v_p + C_p (x_i - x_p)); f_i -= f_scale V_p sigma_p grad w (MLS, mode 3:
+    grad w ~ D^-1 w (x_i - x_p)); folded (not split): the force goes into the momentum."""
+    p = cuda.grid(1)
+    if p >= p_x.shape[0]:
+        return
+    d = p_x.shape[1]
+    w = cuda.local.array((3, 4), float64)
+    dw = cuda.local.array((3, 4), float64)
+    base = cuda.local.array(3, int64)
+    k = cuda.local.array(3, int64)
+    gw = cuda.local.array(3, float64)
+    dx = cuda.local.array(3, float64)
+    inv_h = 1.0 / h
+    for a in range(d):
+        base[a] = _axis((p_x[p, a] - origin[a]) * inv_h, kind, inv_h, w[a], dw[a])
+    m = p_mass[p]
+    nv = -p_vol[p] * f_scale
+    nst = S ** d
+    for s in range(nst):
+        idx, wt = _node(s, S, d, base, lo, nloc, w, dw, k, gw)
+        for a in range(d):
+            dx[a] = (base[a] + k[a]) * h + origin[a] - p_x[p, a]
+        if mode == 3:
+            for a in range(d):
+                gw[a] = dinv * wt * dx[a]
+        cuda.atomic.add(g_mass, idx, wt * m)
+        for a in range(d):
+            mv = p_v[p, a]
+            for b in range(d):
+                mv += p_C[p, a, b] * dx[b]
+            f = 0.0
+            for b in range(d):
+                f += p_stress[p, _voigt(a, b)] * gw[b]
+            if split:
+                cuda.atomic.add(g_mom, (idx, a), wt * m * mv)
+                cuda.atomic.add(g_force, (idx, a), nv * f)
+            else:
+                cuda.atomic.add(g_mom, (idx, a), wt * m * mv + nv * f)
+
+
+@cuda.jit
+def g2p(S, mode, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old, origin, h, kind, lo, nloc, dt,
+        flip_ratio, dinv, set_velocity, move, do_gradient):
+    """v_pic = sum w v_i; L = sum v_i (x) grad w (MLS: L = C); APIC/MLS C = sum w v_i (x_i - x_p)^T D^-1
+    (linear APIC: C = L); FLIP: v = r (v + sum w (v_i - v_old_i)) + (1 - r) v_pic; x += dt v_pic;
+    V <- V det(I + dt L), rho = m / V."""
+    p = cuda.grid(1)
+    if p >= p_x.shape[0]:
+        return
+    d = p_x.shape[1]
+    w = cuda.local.array((3, 4), float64)
+    dw = cuda.local.array((3, 4), float64)
+    base = cuda.local.array(3, int64)
+    k = cuda.local.array(3, int64)
+    gw = cuda.local.array(3, float64)
+    dx = cuda.local.array(3, float64)
+    vpic = cuda.local.array(3, float64)
+    dv = cuda.local.array(3, float64)
+    B = cuda.local.array((3, 3), float64)
+    L = cuda.local.array((3, 3), float64)
+    inv_h = 1.0 / h
+    for a in range(3):
+        vpic[a] = 0.0
+        dv[a] = 0.0
+        for b in range(3):
+            B[a, b] = 0.0
+            L[a, b] = 0.0
+    for a in range(d):
+        base[a] = _axis((p_x[p, a] - origin[a]) * inv_h, kind, inv_h, w[a], dw[a])
+    nst = S ** d
+    for s in range(nst):
+        idx, wt = _node(s, S, d, base, lo, nloc, w, dw, k, gw)
+        for b in range(d):
+            dx[b] = (base[b] + k[b]) * h + origin[b] - p_x[p, b]
+        for a in range(d):
+            vi = g_vel[idx, a]
+            vpic[a] += wt * vi
+            if mode == 2:
+                dv[a] += wt * (vi - g_vel_old[idx, a])
+            for b in range(d):
+                L[a, b] += vi * gw[b]
+                B[a, b] += wt * vi * dx[b]
+    if mode == 3:
+        for a in range(d):
+            for b in range(d):
+                L[a, b] = B[a, b] * dinv
+    if set_velocity:
+        for a in range(d):
+            if mode == 2:
+                p_v[p, a] = flip_ratio * (p_v[p, a] + dv[a]) + (1.0 - flip_ratio) * vpic[a]
+            else:
+                p_v[p, a] = vpic[a]
+            for b in range(d):
+                if (mode == 1 or mode == 3) and S > 2:
+                    p_C[p, a, b] = B[a, b] * dinv
+                elif mode == 1:
+                    p_C[p, a, b] = L[a, b]
+                else:
+                    p_C[p, a, b] = 0.0
+    if move:
+        for a in range(d):
+            p_x[p, a] += dt * vpic[a]
+    if do_gradient:
+        for a in range(3):
+            for b in range(3):
+                p_L[p, a, b] = L[a, b]
+        a00, a01, a02 = 1.0 + dt * L[0, 0], dt * L[0, 1], dt * L[0, 2]
+        a10, a11, a12 = dt * L[1, 0], 1.0 + dt * L[1, 1], dt * L[1, 2]
+        a20, a21, a22 = dt * L[2, 0], dt * L[2, 1], 1.0 + dt * L[2, 2]
+        det = a00 * (a11 * a22 - a12 * a21) - a01 * (a10 * a22 - a12 * a20) + a02 * (a10 * a21 - a11 * a20)
+        p_vol[p] *= det
+        p_rho[p] = p_mass[p] / p_vol[p]
+
+
+@cuda.jit
+def zero_grid(g_mass, g_mom, g_force, split):
+    i = cuda.grid(1)
+    if i >= g_mass.shape[0]:
+        return
+    g_mass[i] = 0.0
+    for a in range(g_mom.shape[1]):
+        g_mom[i, a] = 0.0
+        if split:
+            g_force[i, a] = 0.0
+
+
+@cuda.jit
+def grid_update(g_mass, g_mom, g_force, gravity, dt, mass_eps, split, g_vel, g_vel_old):
+    """v_old = (mv)/m, v = v_old + dt (f/m + g) (split), or v = ((mv) + dt f)/m + dt g (folded);
+    nodes at or below mass_eps get zero velocity (kernels/grid_update.py)."""
+    i = cuda.grid(1)
+    if i >= g_mass.shape[0]:
+        return
+    m = g_mass[i]
+    for a in range(g_mom.shape[1]):
+        if m > mass_eps:
+            vo = g_mom[i, a] / m
+            if split:
+                g_vel_old[i, a] = vo
+                g_vel[i, a] = vo + dt * (g_force[i, a] / m + gravity[a])
+            else:
+                g_vel[i, a] = vo + dt * gravity[a]
+        else:
+            g_vel[i, a] = 0.0
+            if split:
+                g_vel_old[i, a] = 0.0
+
+
+@cuda.jit
+def momentum_to_velocity(g_mass, g_mom, mass_eps, g_vel):
+    """MUSL re-map: v = (mv) / m."""
+    i = cuda.grid(1)
+    if i >= g_mass.shape[0]:
+        return
+    m = g_mass[i]
+    for a in range(g_mom.shape[1]):
+        g_vel[i, a] = g_mom[i, a] / m if m > mass_eps else 0.0
+
+
+@cuda.jit
+def bounds(p_x, out):
+    """out[0, a] = min x_a, out[1, a] = max x_a, out[2, a] = sum x_a (a NaN or Inf anywhere shows in the
+    sum); out must start at (+inf, -inf, 0)."""
+    p = cuda.grid(1)
+    if p >= p_x.shape[0]:
+        return
+    for a in range(p_x.shape[1]):
+        x = p_x[p, a]
+        cuda.atomic.min(out, (0, a), x)
+        cuda.atomic.max(out, (1, a), x)
+        cuda.atomic.add(out, (2, a), x)
+
+
+@cuda.jit
+def speed_and_density(p_v, p_rho, start, end, slot, out):
+    """For particles start..end-1 (a material block): out[0] = max |v_p| over every block,
+    out[1 + 2 slot] = -min rho, out[2 + 2 slot] = max rho (minima as negated maxima: one atomic)."""
+    q = cuda.grid(1)
+    p = start + q
+    if p >= end:
+        return
+    v2 = 0.0
+    for a in range(p_v.shape[1]):
+        v2 += p_v[p, a] * p_v[p, a]
+    cuda.atomic.max(out, 0, math.sqrt(v2))
+    cuda.atomic.max(out, 1 + 2 * slot, -p_rho[p])
+    cuda.atomic.max(out, 2 + 2 * slot, p_rho[p])

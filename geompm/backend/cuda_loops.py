@@ -1,0 +1,193 @@
+"""The CUDA backend's kernels around a plugin's per-item functions: one law source for CPU and GPU.
+
+A law's ``particle_stress`` and a stage's ``node_rule``, ``node_image`` and
+``particle_rule`` are the same ``@njit`` functions the CPU loops inline
+(backend/cpu_loops.py, cpu_stage_loops.py).  Here each becomes the body of
+a CUDA kernel, one thread per particle or node:
+
+- on a GPU the kernel calls the CPU dispatcher itself, which numba-cuda
+  compiles as a device function (with every ``@njit`` helper it calls), so
+  the function must stay in the CUDA subset: no array creation, no
+  ``np.linalg``, no Python objects;
+- under numba-cuda's simulator (``NUMBA_ENABLE_CUDASIM=1``) a kernel runs as
+  Python, and a CPU dispatcher cannot take the simulator's array wrappers:
+  the kernel calls it through ``simulator_call``, which hands it the numpy
+  arrays underneath, so the compiled CPU function runs inside the simulated
+  kernel (shared/design/field-notes.md).
+
+A thread's ``work`` scratch and ``out`` accumulator are local arrays whose
+sizes are compiled into the kernel (the stage's ``node_scratch`` and
+reduction length); a thread adds its ``out`` into the pass's single row with
+atomics, taking the maximum instead for the slots a stage lists in
+``node_maxima`` / ``particle_maxima`` (stages.py).  The kernels are made
+per process (exec'd source, not cached on disk).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+from numba import cuda, float64
+
+_CACHE: dict = {}
+
+
+def simulated() -> bool:
+    return os.environ.get("NUMBA_ENABLE_CUDASIM", "0") not in ("", "0")
+
+
+def simulator_call(fn):
+    """fn, callable from a simulated kernel: the simulator's array wrappers unwrapped to numpy."""
+    from numba.cuda.simulator.cudadrv.devicearray import FakeCUDAArray, FakeWithinKernelCUDAArray
+
+    def host(a):
+        if isinstance(a, FakeWithinKernelCUDAArray):
+            a = a._item
+        return a._ary if isinstance(a, FakeCUDAArray) else a
+
+    def call(*args):
+        return fn(*[host(a) for a in args])
+
+    return call
+
+
+def _device(fn):
+    return simulator_call(fn) if simulated() else fn
+
+
+LAW = '''
+@cuda.jit
+def stress_kernel(prm, dt, p_L, p_rho, p_stress, p_state, rate):
+    p = cuda.grid(1)
+    if p >= p_L.shape[0]:
+        return
+    L = p_L[p]
+    law_stress(prm, dt, L, p_rho[p], p_stress[p], p_state[p])
+    cuda.atomic.max(rate, 0, max(abs(L[0, 0]), max(abs(L[1, 1]), abs(L[2, 2]))))
+'''
+
+NODE = '''
+@cuda.jit
+def node_kernel(prm, aux, dt, origin, h, lo, nloc, b0, bn, total, g_mass, g_vel, g_vel_old, g_force, out):
+    q = cuda.grid(1)
+    if q >= total:
+        return
+    d = g_vel.shape[1]
+    rem = q
+    idx = 0
+    stride = 1
+    for a in range(d - 1, -1, -1):
+        idx += (b0[a] + rem % bn[a]) * stride
+        rem //= bn[a]
+        stride *= nloc[a]
+    m = g_mass[idx]
+    if m <= 0.0:
+        return
+    x = cuda.local.array(3, float64)
+    work = cuda.local.array({scratch}, float64)
+    acc = cuda.local.array({slots}, float64)
+    for r in range({slots}):
+        acc[r] = 0.0
+    rem = idx
+    for a in range(d - 1, -1, -1):
+        x[a] = origin[a] + (lo[a] + rem % nloc[a]) * h
+        rem //= nloc[a]
+    node_rule(prm, aux, dt, x[:d], m, g_vel[idx], g_vel_old[idx], g_force[idx], work[:{used}], acc)
+    for r in range({slots}):
+        if acc[r] != 0.0:
+            if {maxima_test}:
+                cuda.atomic.max(out, r, acc[r])
+            else:
+                cuda.atomic.add(out, r, acc[r])
+'''
+
+PARTICLE = '''
+@cuda.jit
+def particle_kernel(prm, aux, dt, k, start, end, p_x, p_x0, p_v, p_C, p_mass, p_stress, out):
+    p = start + cuda.grid(1)
+    if p >= end:
+        return
+    work = cuda.local.array({scratch}, float64)
+    acc = cuda.local.array({slots}, float64)
+    for r in range({slots}):
+        acc[r] = 0.0
+    particle_rule(prm, aux, dt, k, p_x[p], p_x0[p], p_v[p], p_C[p], p_mass[p], p_stress[p], work[:{used}], acc)
+    for r in range({slots}):
+        if acc[r] != 0.0:
+            if {maxima_test}:
+                cuda.atomic.max(out, r, acc[r])
+            else:
+                cuda.atomic.add(out, r, acc[r])
+'''
+
+MERGE = '''
+@cuda.jit
+def merge_kernel(prm, lo, nloc, g_mass, g_vel, g_vel_old, fold_old):
+    g = cuda.grid(1)
+    nn = g_vel.shape[0]
+    if g >= nn:
+        return
+    d = g_vel.shape[1]
+    rem = g
+    r = 0
+    stride = 1
+    moved = False
+    inside = True
+    for a in range(d - 1, -1, -1):
+        gi = lo[a] + rem % nloc[a]
+        rem //= nloc[a]
+        j = node_image(prm, a, gi) - lo[a]
+        moved = moved or j != gi - lo[a]
+        inside = inside and 0 <= j < nloc[a]
+        r += j * stride
+        stride *= nloc[a]
+    if not moved or not inside:
+        return
+    m = g_mass[g] + g_mass[r]
+    if m <= 0.0:
+        return
+    for a in range(d):
+        v = (g_mass[g] * g_vel[g, a] + g_mass[r] * g_vel[r, a]) / m
+        g_vel[g, a] = v
+        g_vel[r, a] = v
+        if fold_old:
+            vo = (g_mass[g] * g_vel_old[g, a] + g_mass[r] * g_vel_old[r, a]) / m
+            g_vel_old[g, a] = vo
+            g_vel_old[r, a] = vo
+    g_mass[g] = m
+    g_mass[r] = m
+'''
+
+
+def _maxima_test(maxima) -> str:
+    return " or ".join(f"r == {int(i)}" for i in maxima) if maxima else "False"
+
+
+def _kernel(kind: str, name: str, source: str, functions: dict):
+    key = (kind, source, tuple(functions.items()))
+    if key not in _CACHE:
+        namespace = {"cuda": cuda, "float64": float64, "math": math}
+        namespace.update({alias: _device(fn) for alias, fn in functions.items()})
+        exec(source, namespace)
+        _CACHE[key] = namespace[name]
+    return _CACHE[key]
+
+
+def stress_kernel(law):
+    return _kernel("law", "stress_kernel", LAW, {"law_stress": law.particle_stress})
+
+
+def node_kernel(rule, scratch: int, slots: int, maxima=()):
+    src = NODE.format(scratch=max(scratch, 1), used=scratch, slots=max(slots, 1), maxima_test=_maxima_test(maxima))
+    return _kernel("node", "node_kernel", src, {"node_rule": rule})
+
+
+def particle_kernel(rule, scratch: int, slots: int, maxima=()):
+    src = PARTICLE.format(scratch=max(scratch, 1), used=scratch, slots=max(slots, 1),
+                          maxima_test=_maxima_test(maxima))
+    return _kernel("particle", "particle_kernel", src, {"particle_rule": rule})
+
+
+def merge_kernel(image):
+    return _kernel("merge", "merge_kernel", MERGE, {"node_image": image})

@@ -1,0 +1,220 @@
+"""CPU against CUDA backend on tiny scenes, for every built-in law and stage (issue 21, point 4).
+
+    NUMBA_ENABLE_CUDASIM=1 python tests/cuda_parity.py [--steps 3] [SCENE ...]
+
+Each scene runs ``--steps`` steps on ``solver.backend`` "cpu" and on "cuda" (numba-cuda's simulator
+when NUMBA_ENABLE_CUDASIM=1, a GPU otherwise) from the same case; it prints one JSON line per scene:
+the largest difference of positions, velocities, stresses and densities (particles matched by p_id)
+relative to the largest magnitude of that field, of every series.csv column (the stages' forces,
+relative to the column's largest magnitude), and the step counts and times.  tests/test_cuda_backend.py
+runs it and asserts the differences.  The scenes cover every law (7 built-in, the EVP integration of
+the yield fluids), every transfer (PIC, APIC, FLIP with a relaxation time, MLS), all three shape
+functions, USL and MUSL, 2D and 3D, and every built-in stage: walls (slip, fixed, friction), a plane,
+periodic x, artificial and local damping, box, sphere, cylinder, STL and terrain obstacles with their
+recorded forces and the penetration guard.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from geompm import registry  # noqa: E402
+from geompm.api import scene_from_dict  # noqa: E402
+from geompm.engine.scheduler import Simulation  # noqa: E402
+
+
+def law(name: str, **over) -> dict:
+    params = registry.get("materials", name, "").example_params().model_dump(exclude_none=True)
+    params.pop("from_bingham", None)
+    params.update(over)
+    return dict(model=name, **params)
+
+
+def case2d(material: dict, solver=None, shape="quadratic", boundaries=None, obstacles=None, damping=None,
+           box=((0.3, 0.0), (0.6, 0.3)), velocity=None) -> dict:
+    body = {"material": "m", "geometry": {"type": "box", "min": list(box[0]), "max": list(box[1])},
+            "particles_per_cell": 2}
+    if velocity is not None:
+        body["velocity"] = velocity
+    return {
+        "name": "parity", "dimension": 2,
+        "grid": {"origin": [0.0, 0.0], "extent": [1.0, 0.8], "cell_size": 0.1, "shape_function": shape},
+        "time": {"end": 1.0, "cfl": 0.4}, "gravity": [0.0, -9.81],
+        "materials": {"m": material}, "bodies": [body],
+        "boundaries": boundaries if boundaries is not None else [
+            {"type": "wall", "side": "y-", "condition": "friction", "friction": 0.4},
+            {"type": "wall", "side": "x-", "condition": "slip"}],
+        "obstacles": obstacles or [], "damping": damping or [],
+        "solver": solver or {}, "outputs": [],
+    }
+
+
+def case3d(material: dict, folder: Path, obstacles=None, damping=None, solver=None, terrain=False) -> dict:
+    lift = 0.22 if terrain else 0.0  # the block rests on the floor, or starts just above the terrain
+    c = {
+        "name": "parity3d", "dimension": 3,
+        "grid": {"origin": [0.0, 0.0, 0.0], "extent": [0.6, 0.4, 0.5], "cell_size": 0.1},
+        "time": {"end": 1.0, "cfl": 0.4}, "gravity": [0.0, 0.0, -9.81],
+        "materials": {"m": material},
+        "bodies": [{"material": "m", "geometry": {"type": "box", "min": [0.1, 0.1, lift], "max": [0.3, 0.3, lift + 0.2]},
+                    "velocity": [0.5, 0.0, -1.5] if terrain else [2.0, 0.0, -0.5]}],
+        "boundaries": [] if terrain else [{"type": "wall", "side": "z-", "condition": "friction", "friction": 0.3}],
+        "obstacles": obstacles or [], "damping": damping or [], "solver": solver or {}, "outputs": [],
+    }
+    return c
+
+
+def stl_block(folder: Path) -> str:
+    import trimesh
+
+    box = trimesh.creation.box(extents=[0.2, 0.4, 0.2])
+    box.apply_translation([0.4, 0.2, 0.1])
+    box.export(folder / "dam.stl")
+    return "dam.stl"
+
+
+def terrain_dem(folder: Path) -> str:
+    """A 20 deg incline falling along x, as a GeoTIFF (rasterio)."""
+    import rasterio
+    from rasterio.transform import Affine
+
+    dx, nx, ny = 0.05, 16, 12
+    xs = -0.1 + (np.arange(nx) + 0.5) * dx
+    z = np.tile(0.25 - np.tan(np.radians(20.0)) * xs, (ny, 1))
+    with rasterio.open(folder / "dem.tif", "w", driver="GTiff", height=ny, width=nx, count=1, dtype="float64",
+                       crs="EPSG:2056", transform=Affine(dx, 0.0, -0.1, 0.0, -dx, -0.1 + ny * dx)) as dst:
+        dst.write(z, 1)
+    return "dem.tif"
+
+
+def scenes(folder: Path) -> dict:
+    """name -> case: each law, transfer, shape, update order and stage at least once."""
+    wall_fixed = [{"type": "wall", "side": "y-", "condition": "fixed"}]
+    return {
+        "elastic_apic_quadratic_usl": case2d(law("linear_elastic"), velocity=[1.0, 0.0]),
+        "elastic_pic_linear_musl": case2d(law("linear_elastic"), {"transfer": "pic", "update": "musl"}, "linear",
+                                          wall_fixed),
+        "newtonian_flip_tau_cubic_local_damping": case2d(
+            law("newtonian"), {"transfer": "flip", "flip_relaxation_time": 0.1}, "cubic",
+            damping=[{"model": "local", "alpha": 0.3}]),
+        "bingham_mls_artificial_damping": case2d(law("bingham"), {"transfer": "mls"},
+                                                 damping=[{"model": "artificial", "xi": 0.002}]),
+        "bingham_evp_plane": case2d(law("bingham", integration="elastoviscoplastic"), boundaries=[
+            {"type": "plane", "point": [0.0, 0.05], "normal": [0.2, 1.0], "condition": "friction", "friction": 0.3}]),
+        "cross_explicit_flip_ratio": case2d(law("cross"), {"transfer": "flip", "flip_ratio": 0.95}),
+        "cross_evp_periodic": case2d(law("cross", integration="elastoviscoplastic"), boundaries=[
+            {"type": "wall", "side": "y-", "condition": "slip"}, {"type": "periodic", "axis": "x"}],
+            velocity=[-1.0, 0.0], box=((0.0, 0.0), (0.3, 0.3))),
+        "herschel_bulkley_explicit_and_box_guard": dict(case2d(
+            law("herschel_bulkley"), obstacles=[{"type": "box", "name": "dam", "min": [0.7, 0.0], "max": [0.75, 0.3],
+                                  "friction": 0.3}],
+            velocity=[2.0, 0.0]), parity_place=[0.71, 0.125]),
+        "herschel_bulkley_evp_sphere": case2d(
+            law("herschel_bulkley", integration="elastoviscoplastic"),
+            obstacles=[{"type": "sphere", "name": "rock", "center": [0.45, 0.42], "radius": 0.12, "condition": "slip"}],
+            velocity=[0.0, 1.0]),
+        "drucker_prager_cylinder": case2d(
+            law("drucker_prager"), obstacles=[{"type": "cylinder", "name": "pier", "center": [0.75, 0.1],
+                                               "radius": 0.08, "friction": 0.3}], velocity=[2.0, 0.0]),
+        **({"mu_i_plugin_2d": case2d(law("mu_i"), velocity=[1.0, 0.0])} if "mu_i" in registry.available("materials")
+           else {}),
+        "mohr_coulomb_2d": case2d(law("mohr_coulomb"), {"transfer": "flip", "flip_relaxation_time": 0.05},
+                                  velocity=[0.5, 0.0]),
+        "drucker_prager_3d_stl": case3d(law("drucker_prager"), folder, obstacles=[
+            {"type": "rigid_mesh", "name": "dam", "file": stl_block(folder), "friction": 0.3}],
+            damping=[{"model": "artificial", "xi": 0.002}]),
+        "newtonian_3d_terrain_guard": dict(case3d(law("newtonian"), folder, obstacles=[
+            {"type": "terrain", "name": "ground", "dem": terrain_dem(folder), "friction": 0.3}], terrain=True),
+            parity_place=[0.35, 0.2, 0.10]),
+    }
+
+
+def compare(a, b, floor: float = 0.0) -> float:
+    """max |a - b| / max(max |a|, floor): relative to the field's largest magnitude, or to a physical
+    floor where the field is nearly zero (a stress of 1e-12 Pa in a free-falling block is round-off)."""
+    scale = max(float(np.abs(a).max()) if a.size else 0.0, floor)
+    diff = float(np.abs(a - b).max()) if a.size else 0.0
+    return diff / scale if scale > 0 else diff
+
+
+def floors(case: dict) -> dict:
+    """Physical scales of each field: the cell size [m], g t for a velocity [m/s], the weight stress
+    of one cell rho g h [Pa], the density rho [kg/m3] (the densest material's)."""
+    h = case["grid"]["cell_size"]
+    g = float(np.linalg.norm(case["gravity"]))
+    rho = max(m["density"] for m in case["materials"].values())
+    return {"p_x": h, "p_v": g * 0.01, "p_stress": rho * g * h, "p_rho": rho}
+
+
+def run(case: dict, backend: str, steps: int, folder: Path):
+    c = json.loads(json.dumps(case))
+    c["solver"]["backend"] = backend
+    place = c.pop("parity_place", None)
+    sim = Simulation(scene_from_dict(c, base_dir=folder))
+    if place is not None:  # the furthest particle put inside an obstacle: its guard must act (host first)
+        st = sim.state
+        st.p_x[int(np.argmax(st.p_x[:, 0]))] = place
+    rows = []
+    t0 = time.perf_counter()
+    for _ in range(steps):
+        sim.step(sim.stable_dt())
+        rows.append(sim.series_row())
+    wall = time.perf_counter() - t0
+    rows[-1].update({f"{s.label}_max_depth": s.max_depth for s in sim.particle_stages if hasattr(s, "max_depth")})
+    st = sim.state
+    order = np.argsort(st.p_id)
+    fields = {k: getattr(st, k)[order] for k in ("p_x", "p_v", "p_stress", "p_rho")}
+    return fields, rows, sim, wall
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("names", nargs="*")
+    ap.add_argument("--steps", type=int, default=3)
+    ap.add_argument("--case", action="append", default=[], metavar="FILE",
+                    help="a case file to compare instead of the tiny scenes (e.g. cases/dam_break.json on a GPU)")
+    a = ap.parse_args(argv)
+    folder = Path(tempfile.mkdtemp(prefix="geompm-parity-"))
+    all_scenes = scenes(folder)
+    for path in a.case:  # shipped cases, read from their own folder (meshes, DEMs)
+        case = json.loads(Path(path).read_text())
+        case.setdefault("solver", {})
+        case["outputs"] = []
+        all_scenes[Path(path).stem] = case
+        folder = Path(path).resolve().parent
+    if a.case:
+        a.names = a.names or [Path(p).stem for p in a.case]
+    for name in a.names or all_scenes:
+        case = all_scenes[name]
+        fa, ra, sa, wa = run(case, "cpu", a.steps, folder)
+        fb, rb, sb, wb = run(case, "cuda", a.steps, folder)
+        series, values = {}, {}
+        cols = {key: (np.array([r[key] for r in ra if key in r], float), np.array([r[key] for r in rb if key in r], float))
+                for key in ra[-1]}
+        for key, (col_a, col_b) in cols.items():
+            # a stage's columns (label_fx, label_fn, ...) share one scale: a zero component is compared
+            # against the stage's largest force, not against its own round-off
+            stage = [c for k, (c, _) in cols.items() if k.rsplit("_", 1)[0] == key.rsplit("_", 1)[0]]
+            series[key] = compare(col_a, col_b, max(float(np.abs(c).max()) for c in stage))
+            values[key] = float(col_a[-1])
+        flo = floors(case)
+        out = {"scene": name, "particles": int(sa.state.n), "steps": [sa.step_count, sb.step_count],
+               "time": [sa.time, sb.time], "wall_s": [round(wa, 2), round(wb, 2)],
+               "fields": {k: compare(fa[k], fb[k], flo[k]) for k in fa}, "series": series, "last_row": values,
+               "max_displacement": float(np.abs(fa["p_x"] - sa.state.p_x0[np.argsort(sa.state.p_id)]).max())}
+        print(json.dumps(out), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
