@@ -59,41 +59,51 @@ def node_pass(prm, aux, dt, origin, h, lo, nloc, first, last, g_mass, g_vel, g_v
             node_rule(prm, aux, dt, x, m, g_vel[idx], g_vel_old[idx], g_force[idx], scratch, acc)
 '''
 
-MERGE_BODY = '''
+#: one node merged with its image (summed mass, mass-weighted velocity): the body of the CPU merge pass
+#: and of the CUDA merge kernel (backend/cuda_loops.py), around ``node_image``
+MERGE_NODE = '''
+@njit(inline="always", cache=True)
+def merge_node(prm, lo, nloc, g_mass, g_vel, g_vel_old, fold_old, g):
+    d = g_vel.shape[1]
+    rem = g
+    r = 0
+    stride = 1
+    moved = False
+    inside = True
+    for a in range(d - 1, -1, -1):
+        gi = lo[a] + rem % nloc[a]
+        rem //= nloc[a]
+        j = node_image(prm, a, gi) - lo[a]
+        moved = moved or j != gi - lo[a]
+        inside = inside and 0 <= j < nloc[a]
+        r += j * stride
+        stride *= nloc[a]
+    if not moved or not inside:
+        return  # not a ghost, or its image is outside the window: the ghost holds the whole node
+    m = g_mass[g] + g_mass[r]
+    if m <= 0.0:
+        return
+    for a in range(d):
+        v = (g_mass[g] * g_vel[g, a] + g_mass[r] * g_vel[r, a]) / m
+        g_vel[g, a] = v
+        g_vel[r, a] = v
+        if fold_old:
+            vo = (g_mass[g] * g_vel_old[g, a] + g_mass[r] * g_vel_old[r, a]) / m
+            g_vel_old[g, a] = vo
+            g_vel_old[r, a] = vo
+    g_mass[g] = m
+    g_mass[r] = m
+'''
+
+MERGE_BODY = MERGE_NODE + '''
+
 @njit(parallel=True, cache=True)
 def merge_pass(prm, lo, nloc, g_mass, g_vel, g_vel_old, fold_old, nc):
-    nn, d = g_vel.shape
+    nn = g_vel.shape[0]
     per = (nn + nc - 1) // nc
     for c in prange(nc):
         for g in range(c * per, min(nn, (c + 1) * per)):
-            rem = g
-            r = 0
-            stride = 1
-            moved = False
-            inside = True
-            for a in range(d - 1, -1, -1):
-                gi = lo[a] + rem % nloc[a]
-                rem //= nloc[a]
-                j = node_image(prm, a, gi) - lo[a]
-                moved = moved or j != gi - lo[a]
-                inside = inside and 0 <= j < nloc[a]
-                r += j * stride
-                stride *= nloc[a]
-            if not moved or not inside:
-                continue  # not a ghost, or its image is outside the window: the ghost holds the whole node
-            m = g_mass[g] + g_mass[r]
-            if m <= 0.0:
-                continue
-            for a in range(d):
-                v = (g_mass[g] * g_vel[g, a] + g_mass[r] * g_vel[r, a]) / m
-                g_vel[g, a] = v
-                g_vel[r, a] = v
-                if fold_old:
-                    vo = (g_mass[g] * g_vel_old[g, a] + g_mass[r] * g_vel_old[r, a]) / m
-                    g_vel_old[g, a] = vo
-                    g_vel_old[r, a] = vo
-            g_mass[g] = m
-            g_mass[r] = m
+            merge_node(prm, lo, nloc, g_mass, g_vel, g_vel_old, fold_old, g)
 '''
 
 PARTICLE_BODY = '''

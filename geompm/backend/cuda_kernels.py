@@ -20,50 +20,34 @@ g_mass (nn,), g_mom / g_force / g_vel / g_vel_old (nn, d) over the window
 from __future__ import annotations
 
 import math
-import os
 
 from numba import cuda, float64, int64
 
+from ..kernels.shape import axis_stencil
+from ..kernels.volume import update_volume
+from .cuda_loops import simulated, simulator_call
+
 #: threads per block of every launch (the simulator runs each thread as a Python thread: fewer there)
-THREADS = 32 if os.environ.get("NUMBA_ENABLE_CUDASIM", "0") not in ("", "0") else 128
+THREADS = 32 if simulated() else 128
 
 
 def blocks(n: int) -> int:
     return max(1, (n + THREADS - 1) // THREADS)
 
 
+#: the CPU kernels' own helpers, called from the kernels: numba-cuda compiles them as device functions on a
+#: GPU; the simulator gets them through backend/cuda_loops.simulator_call (array arguments unwrapped)
+_volume = simulator_call(update_volume) if simulated() else update_volume
+
+
 @cuda.jit(device=True)
 def _axis(xi, kind, inv_h, w, dw):
-    """Weights w[0..3] and derivatives dw [1/m] of the nodes base.. at xi = (x - origin)/h: the
-    B-splines of kernels/shape.axis_stencil (linear 0, quadratic 1, cubic 2); returns base."""
-    if kind == 1:
-        base = math.floor(xi - 0.5)
-        f = xi - base
-        a = 1.5 - f
-        b = f - 1.0
-        c = f - 0.5
-        w[0], w[1], w[2], w[3] = 0.5 * a * a, 0.75 - b * b, 0.5 * c * c, 0.0
-        dw[0], dw[1], dw[2], dw[3] = -a * inv_h, -2.0 * b * inv_h, c * inv_h, 0.0
-        return int(base)
-    if kind == 0:
-        base = math.floor(xi)
-        f = xi - base
-        w[0], w[1], w[2], w[3] = 1.0 - f, f, 0.0, 0.0
-        dw[0], dw[1], dw[2], dw[3] = -inv_h, inv_h, 0.0, 0.0
-        return int(base)
-    base = math.floor(xi) - 1
-    f = xi - base
-    r0, r1, r2, r3 = f, f - 1.0, 2.0 - f, 3.0 - f
-    t0, t3 = 2.0 - r0, 2.0 - r3
-    w[0] = t0 * t0 * t0 / 6.0
-    w[1] = 0.5 * r1 * r1 * r1 - r1 * r1 + 2.0 / 3.0
-    w[2] = 0.5 * r2 * r2 * r2 - r2 * r2 + 2.0 / 3.0
-    w[3] = t3 * t3 * t3 / 6.0
-    dw[0] = -0.5 * t0 * t0 * inv_h
-    dw[1] = (1.5 * r1 * r1 - 2.0 * r1) * inv_h
-    dw[2] = -(1.5 * r2 * r2 - 2.0 * r2) * inv_h
-    dw[3] = 0.5 * t3 * t3 * inv_h
-    return int(base)
+    """The weights and derivatives of kernels/shape.axis_stencil written into w[0..3], dw[0..3]; returns base."""
+    base, wt, dwt = axis_stencil(xi, kind, inv_h)
+    for k in range(4):
+        w[k] = wt[k]
+        dw[k] = dwt[k]
+    return base
 
 
 @cuda.jit(device=True)
@@ -206,15 +190,7 @@ def g2p(S, mode, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old, ori
         for a in range(d):
             p_x[p, a] += dt * vpic[a]
     if do_gradient:
-        for a in range(3):
-            for b in range(3):
-                p_L[p, a, b] = L[a, b]
-        a00, a01, a02 = 1.0 + dt * L[0, 0], dt * L[0, 1], dt * L[0, 2]
-        a10, a11, a12 = dt * L[1, 0], 1.0 + dt * L[1, 1], dt * L[1, 2]
-        a20, a21, a22 = dt * L[2, 0], dt * L[2, 1], 1.0 + dt * L[2, 2]
-        det = a00 * (a11 * a22 - a12 * a21) - a01 * (a10 * a22 - a12 * a20) + a02 * (a10 * a21 - a11 * a20)
-        p_vol[p] *= det
-        p_rho[p] = p_mass[p] / p_vol[p]
+        _volume(p, p_L, p_vol, p_rho, p_mass, L, dt)
 
 
 @cuda.jit

@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 import os
 
-from numba import cuda, float64
+from numba import cuda, float64, njit
 
 _CACHE: dict = {}
 
@@ -85,22 +85,12 @@ def node_kernel(prm, aux, dt, origin, h, lo, nloc, b0, bn, total, g_mass, g_vel,
     if m <= 0.0:
         return
     x = cuda.local.array(3, float64)
-    work = cuda.local.array({scratch}, float64)
-    acc = cuda.local.array({slots}, float64)
-    for r in range({slots}):
-        acc[r] = 0.0
-    rem = idx
+{scratch_and_acc}    rem = idx
     for a in range(d - 1, -1, -1):
         x[a] = origin[a] + (lo[a] + rem % nloc[a]) * h
         rem //= nloc[a]
     node_rule(prm, aux, dt, x[:d], m, g_vel[idx], g_vel_old[idx], g_force[idx], work[:{used}], acc)
-    for r in range({slots}):
-        if acc[r] != 0.0:
-            if {maxima_test}:
-                cuda.atomic.max(out, r, acc[r])
-            else:
-                cuda.atomic.add(out, r, acc[r])
-'''
+{flush}'''
 
 PARTICLE = '''
 @cuda.jit
@@ -108,12 +98,26 @@ def particle_kernel(prm, aux, dt, k, start, end, p_x, p_x0, p_v, p_C, p_mass, p_
     p = start + cuda.grid(1)
     if p >= end:
         return
-    work = cuda.local.array({scratch}, float64)
+{scratch_and_acc}    particle_rule(prm, aux, dt, k, p_x[p], p_x0[p], p_v[p], p_C[p], p_mass[p], p_stress[p], work[:{used}], acc)
+{flush}'''
+
+MERGE = '''
+@cuda.jit
+def merge_kernel(prm, lo, nloc, g_mass, g_vel, g_vel_old, fold_old):
+    g = cuda.grid(1)
+    if g < g_vel.shape[0]:
+        merge_node(prm, lo, nloc, g_mass, g_vel, g_vel_old, fold_old, g)
+'''
+
+
+#: a thread's scratch and zeroed accumulator, and the accumulator added into the pass's row (the maxima
+#: slots taken as a maximum): the same in the node and the particle kernel
+ACCUMULATOR = '''    work = cuda.local.array({scratch}, float64)
     acc = cuda.local.array({slots}, float64)
     for r in range({slots}):
         acc[r] = 0.0
-    particle_rule(prm, aux, dt, k, p_x[p], p_x0[p], p_v[p], p_C[p], p_mass[p], p_stress[p], work[:{used}], acc)
-    for r in range({slots}):
+'''
+FLUSH = '''    for r in range({slots}):
         if acc[r] != 0.0:
             if {maxima_test}:
                 cuda.atomic.max(out, r, acc[r])
@@ -121,47 +125,11 @@ def particle_kernel(prm, aux, dt, k, start, end, p_x, p_x0, p_v, p_C, p_mass, p_
                 cuda.atomic.add(out, r, acc[r])
 '''
 
-MERGE = '''
-@cuda.jit
-def merge_kernel(prm, lo, nloc, g_mass, g_vel, g_vel_old, fold_old):
-    g = cuda.grid(1)
-    nn = g_vel.shape[0]
-    if g >= nn:
-        return
-    d = g_vel.shape[1]
-    rem = g
-    r = 0
-    stride = 1
-    moved = False
-    inside = True
-    for a in range(d - 1, -1, -1):
-        gi = lo[a] + rem % nloc[a]
-        rem //= nloc[a]
-        j = node_image(prm, a, gi) - lo[a]
-        moved = moved or j != gi - lo[a]
-        inside = inside and 0 <= j < nloc[a]
-        r += j * stride
-        stride *= nloc[a]
-    if not moved or not inside:
-        return
-    m = g_mass[g] + g_mass[r]
-    if m <= 0.0:
-        return
-    for a in range(d):
-        v = (g_mass[g] * g_vel[g, a] + g_mass[r] * g_vel[r, a]) / m
-        g_vel[g, a] = v
-        g_vel[r, a] = v
-        if fold_old:
-            vo = (g_mass[g] * g_vel_old[g, a] + g_mass[r] * g_vel_old[r, a]) / m
-            g_vel_old[g, a] = vo
-            g_vel_old[r, a] = vo
-    g_mass[g] = m
-    g_mass[r] = m
-'''
 
-
-def _maxima_test(maxima) -> str:
-    return " or ".join(f"r == {int(i)}" for i in maxima) if maxima else "False"
+def _pass_source(template: str, scratch: int, slots: int, maxima) -> str:
+    keys = dict(scratch=max(scratch, 1), used=scratch, slots=max(slots, 1),
+                maxima_test=" or ".join(f"r == {int(i)}" for i in maxima) if maxima else "False")
+    return template.format(scratch_and_acc=ACCUMULATOR.format(**keys), flush=FLUSH.format(**keys), **keys)
 
 
 def _kernel(kind: str, name: str, source: str, functions: dict):
@@ -179,15 +147,24 @@ def stress_kernel(law):
 
 
 def node_kernel(rule, scratch: int, slots: int, maxima=()):
-    src = NODE.format(scratch=max(scratch, 1), used=scratch, slots=max(slots, 1), maxima_test=_maxima_test(maxima))
-    return _kernel("node", "node_kernel", src, {"node_rule": rule})
+    return _kernel("node", "node_kernel", _pass_source(NODE, scratch, slots, maxima), {"node_rule": rule})
 
 
 def particle_kernel(rule, scratch: int, slots: int, maxima=()):
-    src = PARTICLE.format(scratch=max(scratch, 1), used=scratch, slots=max(slots, 1),
-                          maxima_test=_maxima_test(maxima))
-    return _kernel("particle", "particle_kernel", src, {"particle_rule": rule})
+    return _kernel("particle", "particle_kernel", _pass_source(PARTICLE, scratch, slots, maxima),
+                   {"particle_rule": rule})
 
 
 def merge_kernel(image):
-    return _kernel("merge", "merge_kernel", MERGE, {"node_image": image})
+    """Around cpu_stage_loops.MERGE_NODE, the CPU pass's own per-node body (an @njit function that calls
+    ``node_image`` itself: under the simulator that function, not the image, is the one unwrapped)."""
+    from .cpu_stage_loops import MERGE_NODE
+
+    key = ("merge", image)
+    if key not in _CACHE:
+        namespace = {"cuda": cuda, "njit": njit, "node_image": image}
+        exec(MERGE_NODE.replace(", cache=True", ""), namespace)
+        namespace["merge_node"] = _device(namespace["merge_node"])
+        exec(MERGE, namespace)
+        _CACHE[key] = namespace["merge_kernel"]
+    return _CACHE[key]
