@@ -3,10 +3,10 @@
 # grids H0/20, H0/40, H0/80 (GRIDS="20 40 80 160": others), FLIP with tau = sqrt(H0/g) (TAU=k: k sqrt(H0/g)),
 # deposit front and height at 0.05 H0 (issue 15). One geompm study per aspect ratio; each prints its runs
 # and the observed order of convergence; the command of each is echoed first.  The back wall x = 0 takes
-# Coulomb friction WALL_MU (default tan 31 deg = 0.6009, as the floor; WALL_MU=slip: the case's slip wall).
+# Coulomb friction WALL_MU (e.g. 0.6009 = tan 31 deg, as the floor; default slip: the case's slip wall).
 #   sh benchmarks/convergence/lube_study.sh OUTDIR [a ...]   (default a = 0.5 1 2 3 5; RESUME=--resume to go on)
 out=${1:-studies/lube}; shift
-mu=${WALL_MU:-0.6009}
+mu=${WALL_MU:-slip}
 wall="--set boundaries.0.condition=friction --set boundaries.0.friction=$mu"
 [ "$mu" = slip ] && wall=""
 for a in ${*:-0.5 1 2 3 5}; do
