@@ -28,7 +28,7 @@ def _shear_block(n=32):
 
 def test_layouts_name_the_slots_and_extend_each_other():
     assert DP[:3] == ELASTIC == (0, 1, 2)
-    assert DP.alpha == 3 and DP.dilation_cutoff == 7 and len(DP) == 8
+    assert DP.alpha == 3 and DP.dilation_cutoff == 7 and len(DP) == 10
     with pytest.raises(ValueError, match="duplicate"):
         param_layout(ELASTIC, "G")
 

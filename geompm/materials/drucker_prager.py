@@ -13,12 +13,26 @@ to the apex, I1 = k / alpha, s = 0.  A tension cut-off caps the mean stress at
 Computational Methods for Plasticity, sec. 8.3.3.
 
 Matching to Mohr-Coulomb (phi, c), with t = tan(phi), s = sin(phi):
-  plane_strain: alpha = t / sqrt(9 + 12 t^2),        k = 3 c / sqrt(9 + 12 t^2)
+  plane_strain: the MC plane-strain strength for the flow rule in use.  At a
+      plane-strain limit state the plastic eps_zz rate vanishes, so
+      s_zz = -2 beta sqrt(J2), and the in-plane Mohr circle (radius R, centre
+      c_m, tension positive) of the DP surface is
+          R (1 - 3 alpha beta) / sqrt(1 - 3 beta^2) = k - 3 alpha c_m.
+      Equating it with MC, R = -c_m sin(phi) + c cos(phi):
+          beta  = sin(psi) / sqrt(9 + 3 sin^2(psi))
+          alpha = sin(phi) / (3 sqrt(1 - 3 beta^2) + 3 beta sin(phi))
+          k     = c cos(phi) (1 - 3 alpha beta) / sqrt(1 - 3 beta^2)
+      Associated flow (psi = phi) gives the textbook alpha = t / sqrt(9 + 12 t^2),
+      k = 3 c / sqrt(9 + 12 t^2); isochoric flow (psi = 0) gives alpha = s / 3,
+      k = c cos(phi).  Using the associated alpha with psi = 0 (geompm before
+      issue 15) made the cone weaker than MC: sqrt(J2) = 0.494 p instead of
+      sin 31 deg p = 0.515 p, an effective friction angle of 29.6 deg for 31.
   outer (triaxial compression): alpha = 2 s / (sqrt3 (3 - s)), k = 6 c cos(phi) / (sqrt3 (3 - s))
   inner (triaxial extension):   alpha = 2 s / (sqrt3 (3 + s)), k = 6 c cos(phi) / (sqrt3 (3 + s))
   middle: the mean of the outer and inner coefficients.
-beta uses the same formula with psi.  The plane-strain match gives the MC
-plane-strain strength for associated flow (psi = phi).
+beta uses the same formula with psi.  Past the dilatancy cut-off the flow is
+isochoric (beta = 0) and the plane-strain cone switches to its psi = 0 match,
+so the MC strength is kept at every state.
 
 State variables: accumulated equivalent plastic strain eps_p = sum dlambda / sqrt3
 (sqrt(2/3 de_p:de_p) of the deviatoric plastic strain), plastic volumetric
@@ -41,8 +55,9 @@ from .plasticity import ELASTIC, ElastoplasticParams, FrictionalMaterial, elasti
 SQ3 = math.sqrt(3.0)
 
 #: packed parameters: ELASTIC, the cone alpha [-] and k [Pa], the potential's beta [-], the largest
-#: mean stress [Pa] and the dilatancy cut-off eps_v^p [-] (inf: none)
-DP = param_layout(ELASTIC, "alpha", "k", "beta", "tension_cutoff", "dilation_cutoff")
+#: mean stress [Pa], the dilatancy cut-off eps_v^p [-] (inf: none) and the cone past it (isochoric flow)
+DP = param_layout(ELASTIC, "alpha", "k", "beta", "tension_cutoff", "dilation_cutoff", "alpha_isochoric",
+                  "k_isochoric")
 
 
 class DruckerPragerParams(ElastoplasticParams):
@@ -56,13 +71,21 @@ class DruckerPragerParams(ElastoplasticParams):
         return self.check_dilation()
 
 
-def dp_coefficients(angle_deg: float, cone: str) -> tuple[float, float]:
-    """(alpha, k/c) of the DP cone matched to MC with this angle."""
+def dp_coefficients(angle_deg: float, cone: str, dilation_deg: float | None = None) -> tuple[float, float]:
+    """(alpha, k/c) of the DP cone matched to MC with friction angle ``angle_deg``.
+
+    For the plane_strain cone the match depends on the flow rule: ``dilation_deg`` psi (None: associated,
+    psi = phi).  The potential's beta is ``dp_coefficients(psi, cone)[0]``."""
     phi = math.radians(angle_deg)
     t, s = math.tan(phi), math.sin(phi)
     if cone == "plane_strain":
-        q = math.sqrt(9 + 12 * t * t)
-        return t / q, 3 / q
+        if dilation_deg is None:
+            q = math.sqrt(9 + 12 * t * t)
+            return t / q, 3 / q
+        beta = dp_coefficients(dilation_deg, cone)[0]
+        root = math.sqrt(1.0 - 3.0 * beta * beta)
+        alpha = s / (3.0 * root + 3.0 * beta * s)
+        return alpha, math.cos(phi) * (1.0 - 3.0 * alpha * beta) / root
     out = (2 * s / (SQ3 * (3 - s)), 6 * math.cos(phi) / (SQ3 * (3 - s)))
     inn = (2 * s / (SQ3 * (3 + s)), 6 * math.cos(phi) / (SQ3 * (3 + s)))
     if cone == "outer":
@@ -75,10 +98,11 @@ def dp_coefficients(angle_deg: float, cone: str) -> tuple[float, float]:
 @njit(cache=True)
 def dp_stress(prm, dt, L, rho, s, state):
     """One particle's DP return (module docstring); s (6,) and state (2,) in place."""
-    lam, G, alpha, k = prm[DP.lam], prm[DP.G], prm[DP.alpha], prm[DP.k]
+    lam, G, alpha, k, beta = prm[DP.lam], prm[DP.G], prm[DP.alpha], prm[DP.k], prm[DP.beta]
     tcut = prm[DP.tension_cutoff]
     K = lam + 2.0 * G / 3.0
-    beta = prm[DP.beta] if state[1] < prm[DP.dilation_cutoff] else 0.0  # dilatancy cut-off: isochoric past it
+    if state[1] >= prm[DP.dilation_cutoff]:  # dilatancy cut-off: isochoric past it, with the cone matched to that
+        alpha, k, beta = prm[DP.alpha_isochoric], prm[DP.k_isochoric], 0.0
     tr = elastic_trial(s, L, dt, lam, G)
     I1 = tr[0] + tr[1] + tr[2]
     mean = I1 / 3.0
@@ -124,13 +148,14 @@ class DruckerPrager(FrictionalMaterial):
 
     @classmethod
     def pack(cls, p):
-        alpha, kc = dp_coefficients(p.friction_angle, p.cone)
+        alpha, kc = dp_coefficients(p.friction_angle, p.cone, p.dilation_angle)
+        alpha0, kc0 = dp_coefficients(p.friction_angle, p.cone, 0.0)
         beta, _ = dp_coefficients(p.dilation_angle, p.cone)
         k = kc * p.cohesion
         apex = k / (3 * alpha) if alpha > 0 else np.inf
         tcut = apex if p.tension_cutoff is None else min(p.tension_cutoff, apex)
         return {**cls.elastic_pack(p), "alpha": alpha, "k": k, "beta": beta, "tension_cutoff": tcut,
-                "dilation_cutoff": p.cutoff()}
+                "dilation_cutoff": p.cutoff(), "alpha_isochoric": alpha0, "k_isochoric": kc0 * p.cohesion}
 
     @classmethod
     def example_params(cls):
