@@ -4,7 +4,10 @@ test, and the column collapse with psi = 10 deg that used to blow up.
 Cause (docs/stability.md, "Dilatancy"): under continued shear a dilatant soil keeps dilating, and
 particles at the free surface open at the apex; their density falls to a few per cent of rho0
 while the elastic moduli stay, so their P-wave speed sqrt(M / rho) grows past the one the step
-was computed with, sqrt(M / rho0). The wave speed now uses each particle's current density.
+was computed with, sqrt(M / rho0). Issue 16 made the wave speed follow each particle's current
+density; issue 15 replaced that by Kirchhoff-stress elasticity (materials/plasticity.current_moduli):
+the moduli scale with rho / rho0, so a dilated particle is as stiff per unit mass as a dense one and
+the step is the material's, sqrt(M / rho0), at any density.
 """
 
 import math
@@ -16,20 +19,39 @@ from geompm.api import scene_from_file
 from geompm.engine.health import HealthCheck, health_sums
 from geompm.engine.scheduler import Simulation
 from geompm.backend.cpu_loops import block_loops
+from geompm.materials.drucker_prager import DruckerPrager
 from geompm.materials.linear_elastic import LinearElastic
+from geompm.materials.mohr_coulomb import MohrCoulomb
+from geompm.materials.plasticity import ELASTIC
 from tests.stability.biaxial import dilation_rate
 from tests.stability.harness import ROOT
 
 
-def test_wave_speed_follows_the_current_density():
-    """c = sqrt((lambda + 2G) / rho_p) at the lowest particle density, never below the reference:
-    a particle dilated to rho0 / 4 doubles the speed; compression does not lower it."""
-    lam, G, rho0 = 4.0e5, 3.0e5, 2000.0
-    prm = np.array([rho0, lam, G])
+@pytest.mark.parametrize("law", [LinearElastic, DruckerPrager, MohrCoulomb])
+def test_a_dilated_particle_is_as_stiff_per_unit_mass_as_a_dense_one(law):
+    """Kirchhoff-stress elasticity (plasticity.current_moduli, Simo & Hughes 1998 sec. 7.1): from zero
+    stress, one small elastic step at rho = rho0 / 25, rho0 / 4, rho0 and 1.5 rho0 gives a stress increment
+    proportional to rho, so the internal force V sigma = (m / rho) sigma of a particle of mass m does not
+    depend on its density (equal to 1e-12), and the law's wave speed is sqrt((lambda + 2G) / rho0) at every
+    density from rho0 / 100 to 10 rho0.  With the constant moduli of issue 16 a particle at rho0 / 25 pushed
+    25 times harder per unit mass and needed a step 5 times shorter."""
+    mat = law(law.example_params())
+    lam, G = mat.prm[ELASTIC.lam], mat.prm[ELASTIC.G]
+    rho0 = mat.params.density
+    strain = np.zeros((1, 3, 3))
+    strain[0, 0, 0], strain[0, 1, 1], strain[0, 0, 1] = -1e-6, 2e-7, 3e-7
+    forces = []
+    for r in (1 / 25, 1 / 4, 1.0, 1.5):
+        stress = np.zeros((1, 6))
+        mat.update_stress(1.0, strain.copy(), np.full(1, r * rho0), stress, mat.initial_state(1))
+        expected = r * np.array([lam * -8e-7 + 2 * G * -1e-6, lam * -8e-7 + 2 * G * 2e-7, lam * -8e-7, G * 3e-7, 0, 0])
+        np.testing.assert_allclose(stress[0], expected, rtol=1e-12, atol=1e-12 * abs(expected).max())
+        forces.append(stress[0] / r)  # V sigma per unit mass, times rho0
+    np.testing.assert_allclose(forces, [forces[2]] * 4, rtol=1e-12)
     c0 = math.sqrt((lam + 2 * G) / rho0)
-    elastic_wave_speed = block_loops(LinearElastic)[1]  # the engine's max over a block of the law's function
-    assert elastic_wave_speed(prm, np.array([rho0 * 1.1, rho0 / 4, rho0])) == pytest.approx(2 * c0, rel=1e-12)
-    assert elastic_wave_speed(prm, np.array([rho0 * 1.5])) == pytest.approx(c0, rel=1e-12)
+    wave = block_loops(law)[1]
+    assert wave(mat.prm, rho0 * np.geomspace(1e-2, 10.0, 50)) == pytest.approx(c0, rel=1e-12)
+    assert wave(mat.prm, np.array([rho0 / 25])) == pytest.approx(c0, rel=1e-12)
 
 
 def test_gravity_supply_is_not_cancelled_by_a_runaway_particle():

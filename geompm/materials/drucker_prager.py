@@ -50,7 +50,8 @@ from numba import njit
 from pydantic import Field, model_validator
 
 from ..layout import param_layout
-from .plasticity import ELASTIC, ElastoplasticParams, FrictionalMaterial, elastic_trial, set_scaled_deviator, sqrt_j2
+from .plasticity import (ELASTIC, ElastoplasticParams, FrictionalMaterial, current_moduli, elastic_trial,
+                         set_scaled_deviator, sqrt_j2)
 
 SQ3 = math.sqrt(3.0)
 
@@ -98,7 +99,8 @@ def dp_coefficients(angle_deg: float, cone: str, dilation_deg: float | None = No
 @njit(cache=True)
 def dp_stress(prm, dt, L, rho, s, state):
     """One particle's DP return (module docstring); s (6,) and state (2,) in place."""
-    lam, G, alpha, k, beta = prm[DP.lam], prm[DP.G], prm[DP.alpha], prm[DP.k], prm[DP.beta]
+    lam, G = current_moduli(prm, rho)
+    alpha, k, beta = prm[DP.alpha], prm[DP.k], prm[DP.beta]
     tcut = prm[DP.tension_cutoff]
     K = lam + 2.0 * G / 3.0
     if state[1] >= prm[DP.dilation_cutoff]:  # dilatancy cut-off: isochoric past it, with the cone matched to that

@@ -1,12 +1,14 @@
 """Linear elastic solid in rate form with the Jaumann (objective) stress rate.
 
-    sigma_dot = lambda tr(D) I + 2 G D + W sigma - sigma W
+    sigma_dot = (rho / rho0) (lambda tr(D) I + 2 G D) + W sigma - sigma W
 
-D = sym(L) rate of deformation, W = skew(L) spin [1/s];
+D = sym(L) rate of deformation, W = skew(L) spin [1/s]; the factor rho / rho0
+makes it the Cauchy rate of the Kirchhoff stress tau = J sigma under Hooke's
+law (plasticity.current_moduli: a term sigma tr(D), of order sigma / E, left out);
 G = E / (2 (1 + nu)), lambda = E nu / ((1 + nu)(1 - 2 nu)).
 Small-strain Hooke's law made objective for large rotations; see Belytschko,
 Liu & Moran (2000) Nonlinear Finite Elements for Continua and Structures, sec. 5.7.
-P-wave speed c_p = sqrt((lambda + 2 G) / rho) bounds the time step.
+P-wave speed c_p = sqrt((lambda + 2 G) / rho0), at any density, bounds the time step.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ from numba import njit
 from pydantic import Field
 
 from .base import Material, MaterialParams
-from .plasticity import ELASTIC, elastic_trial, elastic_wave_speed
+from .plasticity import ELASTIC, current_moduli, elastic_trial, elastic_wave_speed
 
 
 class LinearElasticParams(MaterialParams):
@@ -26,7 +28,8 @@ class LinearElasticParams(MaterialParams):
 @njit(fastmath=True, cache=True)
 def elastic_stress(prm, dt, L, rho, s, state):
     """One particle's Jaumann-rate Hooke update; s (6,) in place."""
-    tr = elastic_trial(s, L, dt, prm[ELASTIC.lam], prm[ELASTIC.G])
+    lam, G = current_moduli(prm, rho)
+    tr = elastic_trial(s, L, dt, lam, G)
     for i in range(6):
         s[i] = tr[i]
 

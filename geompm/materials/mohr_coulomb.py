@@ -25,7 +25,7 @@ from pydantic import model_validator
 
 from ..kernels.eigen3 import sym_eig3
 from ..layout import param_layout
-from .plasticity import ELASTIC, ElastoplasticParams, FrictionalMaterial, elastic_trial
+from .plasticity import ELASTIC, ElastoplasticParams, FrictionalMaterial, current_moduli, elastic_trial
 
 #: packed parameters: ELASTIC, sin and cos of phi, sin psi, cohesion c [Pa], dilatancy cut-off eps_v^p [-]
 MC = param_layout(ELASTIC, "sin_phi", "cos_phi", "sin_psi", "cohesion", "dilation_cutoff")
@@ -115,7 +115,7 @@ def _rebuild(s, w0, w1, w2, x0, y0, z0, x1, y1, z1, x2, y2, z2):
 @njit(cache=True)
 def mc_stress(prm, dt, L, rho, s, state):
     """One particle's MC return in principal space (module docstring); s (6,) and state (2,) in place."""
-    lam, G = prm[MC.lam], prm[MC.G]
+    lam, G = current_moduli(prm, rho)
     spsi = prm[MC.sin_psi] if state[1] < prm[MC.dilation_cutoff] else 0.0  # dilatancy cut-off
     tr = elastic_trial(s, L, dt, lam, G)
     # Voigt order (xx, yy, zz, xy, yz, xz); eigenvalues ascending: w[2] = sigma_1

@@ -83,15 +83,30 @@ def set_scaled_deviator(s, tr, mean, scale, new_mean):
     s[5] = tr[5] * scale
 
 
+@njit(cache=True, inline="always")
+def current_moduli(prm, rho):
+    """(lambda, G) [Pa] at the current density rho: the reference moduli times rho / rho0.
+
+    The elastic laws integrate the Kirchhoff stress tau = J sigma (J = rho0 / rho) with constant moduli,
+    tau_dot = lambda tr(D) I + 2 G D (Jaumann), so the Cauchy stress they store follows
+    sigma_dot = (rho / rho0)(lambda tr(D) I + 2 G D) - sigma tr(D); the last term, of order sigma / E
+    against the first, is left out.  A particle's internal force V sigma grad N = V0 tau grad N then does
+    not grow with its dilation: a particle at rho0 / 10 is as stiff per unit mass as one at rho0, and the
+    stable step does not depend on the density (elastic_wave_speed).  Simo & Hughes (1998) Computational
+    Inelasticity, sec. 7.1 and 9.1 (Kirchhoff stress in finite-strain elastoplasticity); design decision 44."""
+    r = rho / prm[ELASTIC.density]
+    return prm[ELASTIC.lam] * r, prm[ELASTIC.G] * r
+
+
 @njit(cache=True)
 def elastic_wave_speed(prm, rho):
-    """P-wave speed sqrt((lambda + 2G) / min(rho, rho0)) [m/s] of a particle at its current
-    density rho, for a law whose layout starts with ELASTIC.
+    """P-wave speed sqrt((lambda + 2G) / rho0) [m/s] of a law with current_moduli, at any density rho.
 
-    The elastic moduli do not depend on the density, so a particle that has dilated
-    (rho < rho0) carries a faster wave than the reference one: a dilatant soil at
-    large shear strain does exactly that (docs/stability.md)."""
-    return math.sqrt((prm[ELASTIC.lam] + 2.0 * prm[ELASTIC.G]) / min(rho, prm[ELASTIC.density]))
+    Its moduli scale with rho / rho0 (current_moduli), so (lambda + 2G) rho / rho0 / rho does not depend
+    on rho.  Before issue 15 the moduli were constant and the speed was sqrt((lambda + 2G) / rho): a
+    particle dilated to rho0 / 25 (a stress-free particle on the floor of a column collapse at h = H0/80)
+    set a step five times shorter than the material's (docs/stability.md)."""
+    return math.sqrt((prm[ELASTIC.lam] + 2.0 * prm[ELASTIC.G]) / prm[ELASTIC.density])
 
 
 class FrictionalMaterial(Material):

@@ -30,7 +30,8 @@ from pydantic import Field, model_validator
 from geompm.materials.base import Material, MaterialParams
 from geompm.materials.fluid import shear_rate
 from geompm.layout import param_layout
-from geompm.materials.plasticity import ELASTIC, elastic_trial, elastic_wave_speed, set_scaled_deviator, sqrt_j2
+from geompm.materials.plasticity import (ELASTIC, current_moduli, elastic_trial, elastic_wave_speed,
+                                         set_scaled_deviator, sqrt_j2)
 
 #: packed parameters: ELASTIC, mu_s, mu_2, I_0 [-], d [m], rho_s [kg/m3]
 MU_I = param_layout(ELASTIC, "friction_static", "friction_limit", "inertial_number_ref", "grain_diameter",
@@ -65,8 +66,8 @@ def mu_of_i(inertial, mu_s, mu_2, i0):
 @njit(cache=True)
 def mu_i_stress(prm, dt, L, rho, s, state):
     """One particle's mu(I) update (module docstring); s (6,) and state (2,) in place."""
-    G = prm[MU_I.G]
-    tr = elastic_trial(s, L, dt, prm[MU_I.lam], G)
+    lam, G = current_moduli(prm, rho)  # Kirchhoff-stress elasticity: the step does not depend on the density
+    tr = elastic_trial(s, L, dt, lam, G)
     mean = (tr[0] + tr[1] + tr[2]) / 3.0
     if mean >= 0.0:  # no confinement: grains separate
         for i in range(6):
