@@ -72,10 +72,11 @@ def _deposit(sets):
 
 
 def _front_height(sets, h0):
-    """(front, height) [m] of the deposit: geompm.study.deposit at a threshold of 0.05 H0."""
+    """(front, height) [m] of the deposit: geompm.study.deposit at a threshold of 0.05 H0, sampled every
+    0.01 H0, as series.csv writes them for `geompm study` (benchmarks/convergence/lube_study.sh)."""
     sim, area = _deposit(sets)
     x = sim.state.p_x
-    return deposit_front(x, area, 0.05 * h0, h0 / 200), deposit_height(x, area, h0 / 200, 0.05 * h0)
+    return deposit_front(x, area, 0.05 * h0, 0.01 * h0), deposit_height(x, area, 0.01 * h0, 0.05 * h0)
 
 
 def test_dp_runout_does_not_depend_on_the_step():
@@ -90,22 +91,42 @@ def test_dp_runout_does_not_depend_on_the_step():
     assert f1 == pytest.approx(f4, rel=0.02), f"front {f4:.4f} m at cfl 0.4, {f1:.4f} m at cfl 0.1"
 
 
+A05_SETS = ("bodies.0.geometry.max=[0.1,0.05]", "grid.extent=[0.27,0.06]", "time.end=0.6",
+            "solver.flip_relaxation_time=0.0714")
+
+
+@pytest.mark.slow
+def test_dp_column_a05_converges_to_within_20_percent_of_lube():
+    """a = H0/L0 = 0.5, L0 = 0.1 m (issue 15), tau = sqrt(H0/g) = 0.071 s, the coarser pair of the issue's
+    grids H0/20 and H0/40, to t = 0.6 s (at rest from about 0.4 s).  The two fronts differ by less than 3 %
+    (measured 0.1725 and 0.1705 m: 1.2 %; H0/80 gives 0.1710 m, docs/validation/column-collapse.md) and the
+    heights by less than 3 % (0.0500 m at both: the top of a column with a < 1.15 is left untouched).  The
+    H0/40 runout (L - L0)/L0 is within 20 % of Lube et al. (2005), 1.2 a = 0.60 (measured 0.705, +17.5 %;
+    shared/refdata/granular_collapse_scaling_laws.csv).  Before the plane-strain cone was matched for
+    psi = 0 it was 0.735 (+22.5 %), and with APIC the runout grew at every halving."""
+    l0, h0 = 0.1, 0.05
+    (f1, t1), (f2, t2) = (_front_height((*A05_SETS, f"grid.cell_size={h0 / n}"), h0) for n in (20, 40))
+    assert f2 == pytest.approx(f1, rel=0.03) and t2 == pytest.approx(t1, rel=0.03), (f1, f2, t1, t2)
+    assert (f2 - l0) / l0 == pytest.approx(1.2 * h0 / l0, rel=0.20), f"(L - L0)/L0 = {(f2 - l0) / l0:.3f}"
+
+
 A2_SETS = ("bodies.0.geometry.max=[0.1,0.2]", "grid.extent=[0.63,0.24]", "time.end=1.0",
            "solver.flip_relaxation_time=0.143")
 
 
 @pytest.mark.slow
-def test_dp_column_a2_converges():
-    """a = H0/L0 = 2, L0 = 0.1 m (issue 15), tau = sqrt(H0/g) = 0.143 s, grids H0/10, H0/20, H0/40 (the issue's
-    H0/80 is in docs/validation/column-collapse.md: 3 minutes, too long for CI). The deposit front's second
-    increment is below 0.6 of the first and the two finest fronts differ by less than 6 % (measured: 0.338,
-    0.383, 0.377 m: +0.045, -0.006). The heights differ by less than 5 % (measured 0.1179, 0.1141 m: 3.3 %;
-    the issue asks for 3 %, which the height of tall columns does not reach: it still falls by about 3.5 %
-    per halving up to H0/80, see the validation page)."""
-    runs = [_front_height((*A2_SETS, f"grid.cell_size={0.2 / n}"), 0.2) for n in (10, 20, 40)]
-    (f1, t1), (f2, t2), (f3, t3) = runs
-    assert abs(f3 - f2) < 0.6 * abs(f2 - f1), runs
-    assert f3 == pytest.approx(f2, rel=0.06) and t3 == pytest.approx(t2, rel=0.05), runs
+def test_dp_column_a2_converges_to_within_20_percent_of_lube():
+    """a = H0/L0 = 2, L0 = 0.1 m (issue 15), tau = sqrt(H0/g) = 0.143 s, the coarser pair of the issue's grids
+    H0/20 and H0/40.  The two fronts differ by less than 3 % (measured 0.372 and 0.372 m; H0/80 gives 0.364 m)
+    and the heights by less than 3 % (measured 0.1201 and 0.1171 m: 2.5 %; the height falls by about that much
+    at every halving up to H0/160, docs/validation/column-collapse.md).  a = 2 lies between Lube et al.'s
+    (2005) branches 1.2 a = 2.40 (a < 1.8) and 1.9 a^(2/3) = 3.02 (a > 2.8): the H0/40 runout (L - L0)/L0 is
+    within 20 % of both (measured 2.72: +13 % and -10 %)."""
+    l0, h0 = 0.1, 0.2
+    (f1, t1), (f2, t2) = (_front_height((*A2_SETS, f"grid.cell_size={h0 / n}"), h0) for n in (20, 40))
+    assert f2 == pytest.approx(f1, rel=0.03) and t2 == pytest.approx(t1, rel=0.03), (f1, f2, t1, t2)
+    spread = (f2 - l0) / l0
+    assert spread == pytest.approx(1.2 * 2, rel=0.2) and spread == pytest.approx(1.9 * 2 ** (2 / 3), rel=0.2), spread
 
 
 # The Cross case's explicit viscous step rho h^2 / (4 mu_0) makes it the suite's slowest test: 636 000 steps,

@@ -72,6 +72,19 @@ def test_series_error_and_obstacle_metrics():
     assert pareto([(1, 0.5), (2, 0.6), (3, 0.1), (0.5, 0.9)]) == [3, 0, 2]
 
 
+def test_one_obstacles_metric_is_reported_with_its_error():
+    """`--metric peak_force:dam` (the documented per-obstacle form) gives that scalar, so study.csv carries its
+    error and the summary its order; before, only the bare `peak_force` did, and the labelled form was
+    dropped without a word (found measuring the check dam for issue 15)."""
+    from geompm.study.command import _metric_names
+
+    series = [{"time": np.zeros(2), "dam_fx": np.zeros(2), "dam_fy": np.zeros(2), "dam_fz": np.zeros(2)}]
+    assert _metric_names(["runout", "peak_force:dam", "impulse:dam"], series)[0] == [
+        "runout", "peak_force:dam", "impulse:dam"]
+    assert _metric_names(["peak_force"], series)[0] == ["peak_force:dam"]
+    assert _metric_names(["peak_force:wall"], series)[0] == []
+
+
 def _study(tmp_path, *extra, name="st"):
     out = tmp_path / name
     code = main(["study", str(CASES / "column_collapse.json"), "--out", str(out), "--quiet",

@@ -115,6 +115,8 @@ def _metric_names(requested: list[str], series_list) -> tuple[list[str], list[st
                 scalars.append("height")
         elif name in ("peak_force", "impulse"):
             scalars += [f"{name}:{lab}" for lab in labels]
+        elif name.partition(":")[0] in ("peak_force", "impulse") and name.partition(":")[2] in labels:
+            scalars.append(name)  # one obstacle's: peak_force:LABEL, impulse:LABEL
         elif name in cols or name in M.SERIES_DEFAULT:
             columns.append(name)
     return scalars, columns
