@@ -149,10 +149,10 @@ def test_plane_strain_dp_gives_the_mc_plane_strain_strength(psi):
     rho = np.full(N, 2000.0)
     dt = 0.2 / 5000
 
-    def trial(x):
-        s2, q2 = stress.copy(), state.copy()
-        mat.update_stress(dt, np.diag([-1.0, x, 0.0])[None].copy(), rho, s2, q2)
-        return s2, q2
+    def trial(x):  # one step at lateral rate x; the density follows the volume, as in the engine
+        s2, q2, r2 = stress.copy(), state.copy(), rho / (1.0 + (x - 1.0) * dt)
+        mat.update_stress(dt, np.diag([-1.0, x, 0.0])[None].copy(), r2, s2, q2)
+        return s2, q2, r2
 
     for _ in range(5000):
         x0, x1 = 0.0, 1.0
@@ -162,11 +162,15 @@ def test_plane_strain_dp_gives_the_mc_plane_strain_strength(psi):
             if abs(f1) < 1e-9 * P0 or f1 == f0:
                 break
             x0, x1, f0 = x1, x1 - f1 * (x1 - x0) / (f1 - f0), f1
-        stress, state = trial(x1)
+        stress, state, rho = trial(x1)
     s = stress[0]
     assert s[1] == pytest.approx(-P0, rel=1e-8)
     s1, s3 = s[1], s[0]  # sigma_xx is the most compressive
     sp, cp = math.sin(math.radians(30)), math.cos(math.radians(30))
     strength = -(s1 + s3) * sp + 2 * 5.0e3 * cp
-    assert (s1 - s3) == pytest.approx(strength, rel=1e-6)  # measured 3e-10 (psi 0), 6e-12 (10), 1e-16 (30)
+    # psi = 0: exact (measured 3e-10).  psi > 0: the sample keeps dilating at the limit state, so the Kirchhoff
+    # stress J sigma of the law (plasticity.current_moduli) keeps changing at a stationary sigma; the elastic
+    # eps_zz rate that goes with it is of order sigma / E (1e-2 here) of the plastic one, and the limit state is
+    # MC's to that order times the dilation (measured 3.2e-4 at psi = 10, 4e-5 at 30; 1.7 % with the old alpha).
+    assert (s1 - s3) == pytest.approx(strength, rel=1e-6 if psi == 0.0 else 1e-3)
     assert s3 < s[2] < s1  # sigma_zz is the intermediate principal stress

@@ -50,7 +50,7 @@ from numba import njit
 from pydantic import Field, model_validator
 
 from ..layout import param_layout
-from .plasticity import (ELASTIC, ElastoplasticParams, FrictionalMaterial, current_moduli, elastic_trial,
+from .plasticity import (ELASTIC, ElastoplasticParams, FrictionalMaterial, current_moduli, kirchhoff_trial,
                          set_scaled_deviator, sqrt_j2)
 
 SQ3 = math.sqrt(3.0)
@@ -105,7 +105,7 @@ def dp_stress(prm, dt, L, rho, s, state):
     K = lam + 2.0 * G / 3.0
     if state[1] >= prm[DP.dilation_cutoff]:  # dilatancy cut-off: isochoric past it, with the cone matched to that
         alpha, k, beta = prm[DP.alpha_isochoric], prm[DP.k_isochoric], 0.0
-    tr = elastic_trial(s, L, dt, lam, G)
+    tr = kirchhoff_trial(s, L, dt, lam, G)
     I1 = tr[0] + tr[1] + tr[2]
     mean = I1 / 3.0
     tau = sqrt_j2(tr, mean)

@@ -17,7 +17,7 @@ from numba import njit
 from pydantic import Field
 
 from .base import Material, MaterialParams
-from .plasticity import ELASTIC, current_moduli, elastic_trial, elastic_wave_speed
+from .plasticity import ELASTIC, current_moduli, kirchhoff_trial, elastic_wave_speed
 
 
 class LinearElasticParams(MaterialParams):
@@ -29,7 +29,7 @@ class LinearElasticParams(MaterialParams):
 def elastic_stress(prm, dt, L, rho, s, state):
     """One particle's Jaumann-rate Hooke update; s (6,) in place."""
     lam, G = current_moduli(prm, rho)
-    tr = elastic_trial(s, L, dt, lam, G)
+    tr = kirchhoff_trial(s, L, dt, lam, G)
     for i in range(6):
         s[i] = tr[i]
 

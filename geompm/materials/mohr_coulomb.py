@@ -25,7 +25,7 @@ from pydantic import model_validator
 
 from ..kernels.eigen3 import sym_eig3
 from ..layout import param_layout
-from .plasticity import ELASTIC, ElastoplasticParams, FrictionalMaterial, current_moduli, elastic_trial
+from .plasticity import ELASTIC, ElastoplasticParams, FrictionalMaterial, current_moduli, kirchhoff_trial
 
 #: packed parameters: ELASTIC, sin and cos of phi, sin psi, cohesion c [Pa], dilatancy cut-off eps_v^p [-]
 MC = param_layout(ELASTIC, "sin_phi", "cos_phi", "sin_psi", "cohesion", "dilation_cutoff")
@@ -117,7 +117,7 @@ def mc_stress(prm, dt, L, rho, s, state):
     """One particle's MC return in principal space (module docstring); s (6,) and state (2,) in place."""
     lam, G = current_moduli(prm, rho)
     spsi = prm[MC.sin_psi] if state[1] < prm[MC.dilation_cutoff] else 0.0  # dilatancy cut-off
-    tr = elastic_trial(s, L, dt, lam, G)
+    tr = kirchhoff_trial(s, L, dt, lam, G)
     # Voigt order (xx, yy, zz, xy, yz, xz); eigenvalues ascending: w[2] = sigma_1
     e = sym_eig3(tr[0], tr[1], tr[2], tr[3], tr[4], tr[5])
     r1, r2, r3, deq, dvol = mc_principal_return(e[2], e[1], e[0], lam, G, prm[MC.sin_phi], prm[MC.cos_phi],

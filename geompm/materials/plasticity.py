@@ -64,6 +64,20 @@ def elastic_trial(s, L, dt, lam, G):
 
 
 @njit(cache=True, inline="always")
+def kirchhoff_trial(s, L, dt, lam, G):
+    """The elastic predictor of the Kirchhoff rate (current_moduli: lam, G already at the current density):
+    s / (1 + tr(D) dt) plus the Jaumann rotation and lam tr(D) dt I + 2 G D dt, so that J sigma advances
+    by C : D dt (plus the rotation) with the volume ratio J_{n+1} / J_n = 1 + tr(D) dt.  That ratio is
+    exactly 1 in isochoric shear and rigid rotation, where the engine's det(I + dt L) (kernels/volume.py)
+    differs from it at second order in dt.  A Voigt 6-tuple."""
+    tr = elastic_trial(s, L, dt, lam, G)
+    v = (L[0, 0] + L[1, 1] + L[2, 2]) * dt
+    shrink = -v / (1.0 + v)  # s_n (1 / (1 + v) - 1): J s_n is carried unchanged
+    return (tr[0] + s[0] * shrink, tr[1] + s[1] * shrink, tr[2] + s[2] * shrink,
+            tr[3] + s[3] * shrink, tr[4] + s[4] * shrink, tr[5] + s[5] * shrink)
+
+
+@njit(cache=True, inline="always")
 def sqrt_j2(s, mean):
     d0 = s[0] - mean
     d1 = s[1] - mean

@@ -126,10 +126,13 @@ def _double_dot(a, b):
 def plastic_work_per_step(law, steps: int = 80, seed: int = 3) -> np.ndarray:
     """(steps, N) plastic work per unit volume [J/m3] of each step along random strain paths.
 
-    Paths are symmetric (no spin, so the Jaumann term is zero and C^-1 (sigma_{n+1} - sigma_n)
-    is the elastic strain increment exactly); each particle changes direction every 10 steps.
-    Particles 0 .. N/4 get a volumetric stretch on top that carries them through the apex,
-    N/4 .. N/2 a compression."""
+    Paths are symmetric (no spin, so the Jaumann term is zero); each particle changes direction every 10
+    steps.  Particles 0 .. N/4 get a volumetric stretch on top that carries them through the apex,
+    N/4 .. N/2 a compression.  The density follows the path, rho <- rho / (1 + tr(D) dt) (the engine's
+    det(I + dt L) to first order, and the volume ratio of plasticity.kirchhoff_trial), and the work is that of the Kirchhoff stress tau = (rho0 / rho) sigma per unit reference volume
+    (geompm's elastoplastic laws integrate tau with constant moduli, materials/plasticity.current_moduli):
+    C^-1 (tau_{n+1} - tau_n) is then the elastic strain increment exactly.  A law that keeps constant
+    moduli in sigma instead shows a negative work of order sigma tr(D) dt here."""
     p = law.example_params()
     E, nu = float(p.youngs_modulus), float(p.poisson_ratio)
     G, lam = E / (2 * (1 + nu)), E * nu / ((1 + nu) * (1 - 2 * nu))
@@ -144,13 +147,15 @@ def plastic_work_per_step(law, steps: int = 80, seed: int = 3) -> np.ndarray:
             L[: N // 4] += 1.5 * np.eye(3)
             L[N // 4: N // 2] -= 0.5 * np.eye(3)
             L *= de / dt / np.abs(L).max(axis=(1, 2))[:, None, None]
-        old = stress.copy()
+        tau_old = stress * (mat.density / rho)[:, None]
+        rho = rho / (1.0 + dt * np.trace(L, axis1=1, axis2=2))
         mat.update_stress(dt, L, rho, stress, state)
-        ds = stress - old
+        tau = stress * (mat.density / rho)[:, None]
+        ds = tau - tau_old
         tr = ds[:, :3].sum(axis=1)
         de_el = ds / (2 * G)
         de_el[:, :3] -= (lam / (2 * G * (3 * lam + 2 * G)) * tr)[:, None]
-        out[k] = _double_dot(stress, _voigt_sym(L) * dt - de_el)
+        out[k] = _double_dot(tau, _voigt_sym(L) * dt - de_el)
     return out
 
 

@@ -38,6 +38,7 @@ class Outcome:
     kinetic_energy: float
     front_x: float
     time: float
+    rho_max: float = 0.0  # largest particle density over the run [kg/m3]
 
     @property
     def stable(self) -> bool:
@@ -81,7 +82,7 @@ def run(case: dict, max_steps: int = 20000, cfl: float | None = None) -> Outcome
     budget = check.budget0
     slack = 0.05 * scene.grid.h
     lo, hi = scene.grid.origin - slack, scene.grid.upper + slack
-    ratio, finite, inside = 0.0, True, True
+    ratio, finite, inside, rho_max = 0.0, True, True, 0.0
     dt_first = dt_min = sim.stable_dt()
     while sim.time < scene.end_time * (1 - 1e-12) and sim.step_count < max_steps:
         dt = min(sim.stable_dt(), scene.end_time - sim.time)
@@ -95,8 +96,9 @@ def run(case: dict, max_steps: int = 20000, cfl: float | None = None) -> Outcome
             finite = False
             break
         ratio = max(ratio, ek / (budget + max(wg, 0.0) + 1e-30))
+        rho_max = max(rho_max, float(st.p_rho.max()))
         if outside_grid(st.p_x, lo, hi).any():
             inside = False
             break
     return Outcome(sim.step_count, dt_first, dt_min, ratio, finite, inside, float(ek) if finite else np.nan,
-                   float(st.p_x[:, 0].max()), sim.time)
+                   float(st.p_x[:, 0].max()), sim.time, rho_max)

@@ -30,7 +30,7 @@ from pydantic import Field, model_validator
 from geompm.materials.base import Material, MaterialParams
 from geompm.materials.fluid import shear_rate
 from geompm.layout import param_layout
-from geompm.materials.plasticity import (ELASTIC, current_moduli, elastic_trial, elastic_wave_speed,
+from geompm.materials.plasticity import (ELASTIC, current_moduli, kirchhoff_trial, elastic_wave_speed,
                                          set_scaled_deviator, sqrt_j2)
 
 #: packed parameters: ELASTIC, mu_s, mu_2, I_0 [-], d [m], rho_s [kg/m3]
@@ -67,7 +67,7 @@ def mu_of_i(inertial, mu_s, mu_2, i0):
 def mu_i_stress(prm, dt, L, rho, s, state):
     """One particle's mu(I) update (module docstring); s (6,) and state (2,) in place."""
     lam, G = current_moduli(prm, rho)  # Kirchhoff-stress elasticity: the step does not depend on the density
-    tr = elastic_trial(s, L, dt, lam, G)
+    tr = kirchhoff_trial(s, L, dt, lam, G)
     mean = (tr[0] + tr[1] + tr[2]) / 3.0
     if mean >= 0.0:  # no confinement: grains separate
         for i in range(6):
