@@ -1,0 +1,37 @@
+"""Print the stability envelope of docs/stability.md as a markdown table: every row of
+tests/stability/test_envelope.py's SOIL list, run with its harness.
+
+    python benchmarks/stability/envelope_table.py > table.md
+
+Columns: steps, first and smallest dt [s], the largest E_k over what the run can supply, the furthest
+particle [m], the densest particle / rho0 [-], and the harness's verdict (stable: finite, inside the
+grid, E_k within 5 % of the supply).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+
+from tests.stability.harness import column, run  # noqa: E402
+from tests.stability.test_envelope import SOIL  # noqa: E402
+
+
+def main() -> None:
+    print("| case | steps | dt first / smallest [s] | max E_k / supply | front [m] | ρ_max / ρ0 | result |")
+    print("|---|---|---|---|---|---|---|")
+    for label, over in SOIL:
+        case = column(**over)
+        out = run(case)
+        rho0 = next(iter(case["materials"].values()))["density"]
+        verdict = "stable" if out.stable else ("NaN/Inf" if not out.finite else
+                                               "left the grid" if not out.inside else "gains energy")
+        print(f"| {label} | {out.steps} | {out.dt_first:.3g} / {out.dt_min:.3g} | {out.energy_ratio:.3f} | "
+              f"{out.front_x:.3f} | {out.rho_max / rho0:.2f} | {verdict} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
