@@ -42,6 +42,7 @@ class Scene:
     run_options: RunSpec  # checkpoints, on_leave_domain
     backend: str = "cpu"  # solver.backend (backend/__init__.py)
     sort_interval: int = 100  # solver.sort_interval: steps between two spatial sorts; 0 never
+    precision: str = "float64"  # solver.precision: the particle and grid arrays' dtype
     dt_min: float = 1e-9
     base_dir: object = None  # folder of the case file: relative paths (meshes) start there
     boundaries: list = field(default_factory=list)
@@ -181,6 +182,7 @@ def assemble(loaded: LoadedCase) -> Scene:
     starts = np.r_[0, np.cumsum(counts)]
     state.blocks = [(int(starts[k]), int(starts[k + 1])) for k in range(len(materials))]
     state.p_state = [m.initial_state(int(counts[k])) for k, m in enumerate(materials)]
+    state.set_precision(case.solver.precision)
 
     scene = Scene(
         name=case.name, dim=dim, grid=grid, gravity=gravity, state=state,
@@ -188,7 +190,7 @@ def assemble(loaded: LoadedCase) -> Scene:
         end_time=case.time.end, cfl=case.time.cfl, dt_max=case.time.dt_max, dt_fixed=case.time.dt,
         dt_min=case.time.dt_min, run_options=case.run,
         transfer=case.solver.transfer, flip_ratio=case.solver.flip_ratio,
-        backend=case.solver.backend, sort_interval=case.solver.sort_interval,
+        backend=case.solver.backend, sort_interval=case.solver.sort_interval, precision=case.solver.precision,
         flip_tau=case.solver.flip_relaxation_time,
         musl=case.solver.update == "musl",
         apic_dinv=(1.0 / (APIC_D_FACTOR[kind] * h * h)) if APIC_D_FACTOR[kind] > 0 else 0.0,

@@ -114,11 +114,21 @@ def _viscous_warning(loaded, scene, emit) -> None:
         emit("warning: " + rep.message(scene.end_time))
 
 
+#: what may change on --resume: the end time (to extend a run), and where and in what width the step runs
+RESUME_MAY_CHANGE = (("time", "end"), ("solver", "backend"), ("solver", "precision"))
+
+
 def _same_case(old: dict, new: dict) -> bool:
-    """A run may resume with the case it started with; only time.end may differ (to extend a run)."""
+    """A run may resume with the case it started with; only time.end, solver.backend and solver.precision
+    may differ (a run started on a GPU finishes on a CPU, a checkpoint is read in either width)."""
     a, b = json.loads(json.dumps(old)), json.loads(json.dumps(new))
     for c in (a, b):
-        c.get("time", {}).pop("end", None)
+        for section, key in RESUME_MAY_CHANGE:
+            sub = c.get(section)
+            if isinstance(sub, dict):
+                sub.pop(key, None)
+            if sub == {}:
+                c.pop(section)
     return a == b
 
 
@@ -136,7 +146,8 @@ def _run_folder(args, loaded, scene) -> Path:
             raise CaseError([("--resume", f"'{run_dir}' is not a geompm run folder (no case.json)")])
         if not _same_case(json.loads(saved.read_text()), loaded.raw):
             raise CaseError([("--resume", f"the case differs from the one '{run_dir}' was started with "
-                                          "(only time.end may change on --resume); use that case.json")])
+                                          "(only time.end, solver.backend and solver.precision may change on --resume); "
+                                          "use that case.json")])
         if owned_kind(run_dir) != "run" and (run_dir / "checkpoints").is_dir() and marked_kind(run_dir) in (None, "run"):
             # a run folder of a geompm without markers, or one the user moved: continuing it there makes it
             # this run's folder again (it rotates its checkpoints)

@@ -101,7 +101,8 @@ class GridStage(Stage):
         node_rule(prm, aux, dt, x, m, v, v_old, f, work, out)
 
     ``prm`` the stage's packed parameters (float64, 1-D, layout.py), ``aux`` its lookup
-    table (a signed-distance lattice; any float64 array), ``x`` (d,) the node's position [m],
+    table (a signed-distance lattice; any float64 array; read-only once handed to the backend,
+    which may keep a copy on a device: to change it, hand a new array), ``x`` (d,) the node's position [m],
     ``m`` its mass [kg], ``v`` (d,) its velocity after the update [m/s], changed in place,
     ``v_old`` and ``f`` (d,) its velocity before the update [m/s] and its force [N] (defined only
     when the stage declares ``needs_split_force``; otherwise aliases of ``v``), ``work``

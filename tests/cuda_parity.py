@@ -123,8 +123,8 @@ def scenes(folder: Path) -> dict:
             law("herschel_bulkley", integration="elastoviscoplastic"),
             obstacles=[{"type": "sphere", "name": "rock", "center": [0.45, 0.42], "radius": 0.12, "condition": "slip"}],
             velocity=[0.0, 1.0]),
-        "drucker_prager_cylinder": case2d(
-            law("drucker_prager"), obstacles=[{"type": "cylinder", "name": "pier", "center": [0.75, 0.1],
+        "drucker_prager_cylinder_sorted": case2d(
+            law("drucker_prager"), {"sort_interval": 1}, obstacles=[{"type": "cylinder", "name": "pier", "center": [0.75, 0.1],
                                                "radius": 0.08, "friction": 0.3}], velocity=[2.0, 0.0]),
         **({"mu_i_plugin_2d": case2d(law("mu_i"), velocity=[1.0, 0.0])} if "mu_i" in registry.available("materials")
            else {}),
@@ -132,7 +132,12 @@ def scenes(folder: Path) -> dict:
                                   velocity=[0.5, 0.0]),
         "drucker_prager_3d_stl": case3d(law("drucker_prager"), folder, obstacles=[
             {"type": "rigid_mesh", "name": "dam", "file": stl_block(folder), "friction": 0.3}],
-            damping=[{"model": "artificial", "xi": 0.002}]),
+            damping=[{"model": "artificial", "xi": 0.002}], solver={"sort_interval": 1}),
+        "elastic_apic_quadratic_usl_float32": case2d(law("linear_elastic"), {"precision": "float32"},
+                                                     velocity=[1.0, 0.0]),
+        "drucker_prager_3d_stl_float32": case3d(law("drucker_prager"), folder, obstacles=[
+            {"type": "rigid_mesh", "name": "dam", "file": stl_block(folder), "friction": 0.3}],
+            solver={"precision": "float32", "sort_interval": 1}),
         "newtonian_3d_terrain_guard": dict(case3d(law("newtonian"), folder, obstacles=[
             {"type": "terrain", "name": "ground", "dem": terrain_dem(folder), "friction": 0.3}], terrain=True),
             parity_place=[0.35, 0.2, 0.10]),
@@ -173,8 +178,63 @@ def run(case: dict, backend: str, steps: int, folder: Path):
     rows[-1].update({f"{s.label}_max_depth": s.max_depth for s in sim.particle_stages if hasattr(s, "max_depth")})
     st = sim.state
     order = np.argsort(st.p_id)
-    fields = {k: getattr(st, k)[order] for k in ("p_x", "p_v", "p_stress", "p_rho")}
+    fields = {k: getattr(st, k)[order].astype(np.float64) for k in ("p_x", "p_v", "p_stress", "p_rho")}
     return fields, rows, sim, wall
+
+
+def sort_check() -> dict:
+    """The device's counting sort (backend/cuda_sort.py) against the CPU's (kernels/sort.cell_order), on
+    crowded random particles (tens per cell, negative cells, two blocks, 2D and 3D), and its prefix sum
+    against numpy's on an array long enough for three levels of blocks."""
+    from numba import cuda
+
+    from geompm.backend import cuda_sort
+    from geompm.kernels.sort import cell_order
+
+    rng = np.random.default_rng(7)
+    equal = []
+    for d, n, blocks in ((2, 400, [(0, 250), (250, 400)]), (3, 300, [(0, 0), (0, 300)])):
+        p_x = rng.uniform(-0.25, 0.35, size=(n, d))
+        p_x[:40] = p_x[40:80]  # particles at the same place keep their order
+        origin, h = np.full(d, -0.3), 0.1
+        want = np.concatenate([cell_order(p_x, origin, h, s, e) for s, e in blocks])
+        got = cuda_sort.cell_order(cuda.to_device(p_x), cuda.to_device(origin), h, blocks).copy_to_host()
+        equal.append(bool(np.array_equal(want, got)))
+        moved = cuda_sort.gather(cuda.to_device(p_x), cuda.to_device(got)).copy_to_host()
+        equal.append(bool(np.array_equal(moved, p_x[want])))
+    a = rng.integers(0, 5, size=cuda_sort.SCAN ** 2 + 77)
+    dev = cuda.to_device(a)
+    cuda_sort.scan(dev)
+    return {"check": "sort", "sort_equal": equal, "scan_equal": bool(np.array_equal(dev.copy_to_host(), np.cumsum(a))),
+            "scan_length": int(a.size)}
+
+
+def resume_check(case: dict, folder: Path) -> dict:
+    """Checkpoints across backends (issue 21, point 2): 2 steps on one backend, a checkpoint
+    (engine/checkpoint.py), then the third step on the other backend, against 3 steps on the CPU."""
+    from geompm.engine import checkpoint
+
+    full, _, _, _ = run(case, "cpu", 3, folder)
+    out = {"check": "resume"}
+    for first, second in (("cuda", "cpu"), ("cpu", "cuda")):
+        c = json.loads(json.dumps(case))
+        c.pop("parity_place", None)
+        c["solver"]["backend"] = first
+        sim = Simulation(scene_from_dict(c, base_dir=folder))
+        for _ in range(2):
+            sim.step(sim.stable_dt())
+        run_dir = Path(tempfile.mkdtemp(prefix="geompm-resume-"))
+        checkpoint.save(run_dir, sim, {}, [])
+        c["solver"]["backend"] = second
+        sim2 = Simulation(scene_from_dict(c, base_dir=folder))
+        checkpoint.restore(sim2, *checkpoint.load(run_dir))
+        sim2.step(sim2.stable_dt())
+        st = sim2.state
+        order = np.argsort(st.p_id)
+        flo = floors(case)
+        out[f"{first}_then_{second}"] = {k: compare(full[k], getattr(st, k)[order], flo[k]) for k in full}
+        out[f"{first}_then_{second}_steps"] = sim2.step_count
+    return out
 
 
 def main(argv=None) -> int:
@@ -194,6 +254,9 @@ def main(argv=None) -> int:
         folder = Path(path).resolve().parent
     if a.case:
         a.names = a.names or [Path(p).stem for p in a.case]
+    if not a.case and not a.names:
+        print(json.dumps(sort_check()), flush=True)
+        print(json.dumps(resume_check(all_scenes["drucker_prager_cylinder_sorted"], folder)), flush=True)
     for name in a.names or all_scenes:
         case = all_scenes[name]
         fa, ra, sa, wa = run(case, "cpu", a.steps, folder)
@@ -211,6 +274,8 @@ def main(argv=None) -> int:
         out = {"scene": name, "particles": int(sa.state.n), "steps": [sa.step_count, sb.step_count],
                "time": [sa.time, sb.time], "wall_s": [round(wa, 2), round(wb, 2)],
                "fields": {k: compare(fa[k], fb[k], flo[k]) for k in fa}, "series": series, "last_row": values,
+               "dtype": [str(sa.state.p_x.dtype), str(sb.state.p_x.dtype)],
+               "same_order": bool(np.array_equal(sa.state.p_id, sb.state.p_id)),
                "max_displacement": float(np.abs(fa["p_x"] - sa.state.p_x0[np.argsort(sa.state.p_id)]).max())}
         print(json.dumps(out), flush=True)
     return 0

@@ -88,7 +88,7 @@ def test_mls_elastic_bar_period_and_energy(refdata):
     """The fixed-free elastic bar (cases/elastic_bar.json, closed form in test_elastic_bar.py:
     T1 = 4 L / sqrt(E / rho) = 10 s) run with MLS: first-mode period within 2 %, energy drift
     below 1 % over 3 periods, as for APIC."""
-    period, exact, drift, _, _ = run_bar(["solver.transfer=mls"])
+    period, exact, drift, _, _ = run_bar(("solver.transfer=mls",))
     assert abs(period / exact - 1) < 0.02, f"period {period:.4f} s vs {exact:.4f} s"
     assert drift < 0.01, f"energy drift {drift:.4%} over 3 periods"
 

@@ -4,8 +4,9 @@
 # Installs geompm and numba-cuda from the wheels in benchmarks/device/wheels/ (not committed: fill it on a
 # machine with network with `pip download -d benchmarks/device/wheels -e '.[cuda]' numba-cuda`), prints the GPU,
 # benchmarks fluid3d and dp3d on the cuda backend at 64, 128 and 256 cells per side (204k, 1.6M, 13M
-# particles), float64, checks CPU against CUDA on the tiny scenes and on cases/dam_break.json after 200 steps,
-# and ends in under 8 minutes.  Everything it prints is also written to OUTDIR/gpu_check.log.
+# particles), float32 and float64 (solver.precision), checks CPU against CUDA on the tiny scenes (the device
+# sort, a checkpoint across backends, two float32 scenes) and on cases/dam_break.json after 200 steps, and
+# ends in under 8 minutes (every command has its own timeout).  Everything it prints is also written to OUTDIR/gpu_check.log.
 set -u
 out=${1:-${OUT:-benchmarks/results}}
 mkdir -p "$out"
@@ -21,10 +22,12 @@ here=$(cd "$(dirname "$0")" && pwd)
   for n in 64 128 256; do
     h=$(python3 -c "print(1/$n)")
     steps=$([ $n = 256 ] && echo 20 || echo 50)
-    timeout 150 geompm bench --backend cuda --scene fluid3d --scene dp3d --no-cold --no-bandwidth --steps $steps \
-      --json --set grid.cell_size=$h || echo "bench at $n cells per side failed or timed out"
+    for p in float32 float64; do
+      timeout 55 geompm bench --backend cuda --scene fluid3d --scene dp3d --no-cold --no-bandwidth --steps $steps \
+        --json --set grid.cell_size=$h --set solver.precision=$p || echo "bench at $n cells per side, $p, failed or timed out"
+    done
   done
-  timeout 120 python tests/cuda_parity.py --steps 3 || echo "tiny-scene parity failed"
-  timeout 120 python tests/cuda_parity.py --steps 200 --case cases/dam_break.json || echo "dam-break parity failed"
+  timeout 60 python tests/cuda_parity.py --steps 3 || echo "tiny-scene parity failed"
+  timeout 60 python tests/cuda_parity.py --steps 200 --case cases/dam_break.json || echo "dam-break parity failed"
   date -u
 } 2>&1 | tee "$log"

@@ -39,7 +39,7 @@ class CpuBackend(Backend):
         self.tag = stencil_tag(scene.grid.kind)
         self.scheme = scheme_tag(scene.transfer)
         self.flip = scene.transfer == "flip"
-        self.buffers = GridBuffers(scene.grid, nchunks, split_force)
+        self.buffers = GridBuffers(scene.grid, nchunks, split_force, scene.state.dtype)
         self.mass_eps = 1e-9 * float(self.state.p_mass.min()) if self.state.n else 0.0
         #: largest |L_ii| [1/s] of the last stress update (its by-product), None before the first step
         self.max_rate = None

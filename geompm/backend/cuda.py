@@ -14,12 +14,15 @@ reduction row.
 
 Kernels: P2G by atomics, the grid update and G2P (backend/cuda_kernels.py);
 one kernel per law and per stage function around the plugin's own
-``@njit`` per-item function (backend/cuda_loops.py).  The stage's ``prm``
-and ``aux`` go to the device at every pass (they may change between steps).
+``@njit`` per-item function (backend/cuda_loops.py).  A stage's ``prm`` (a
+few numbers that may change between steps) goes to the device at every
+pass; its ``aux`` table (an obstacle's signed-distance lattice, a DEM) once,
+and again only when the stage hands a different array.
 
-Not built yet (issue 21): the counting sort on the device (the sort runs on
-the host, every ``solver.sort_interval`` steps), shared-memory P2G,
-float32, and a measurement on a GPU.
+The spatial sort runs on the device (backend/cuda_sort.py): only its
+permutation comes to the host, for the host-only arrays.
+
+Not built yet (issue 21): shared-memory P2G, and a measurement on a GPU.
 """
 
 from __future__ import annotations
@@ -34,7 +37,7 @@ from ..kernels.shape import support
 from ..kernels.stencil import SCHEMES
 from ..stages import FAR_NODE
 from . import cuda_kernels as K
-from . import cuda_loops
+from . import cuda_loops, cuda_sort
 from .base import Backend
 
 #: the particle arrays that live on the device
@@ -46,18 +49,19 @@ class _DeviceGrid:
 
     nchunks = 1  # one grid: P2G adds with atomics
 
-    def __init__(self, spec, split: bool):
-        self.spec, self.split, self.cap = spec, split, 0
+    def __init__(self, spec, split: bool, dtype=np.float64):
+        self.spec, self.split, self.cap, self.dtype = spec, split, 0, np.dtype(dtype)
         self._alloc(1024)
 
     def _alloc(self, cap):
         d = self.spec.dim
         self.cap = cap
-        self.g_mass = cuda.device_array(cap)
-        self.g_mom = cuda.device_array((cap, d))
-        self.g_force = cuda.device_array((cap if self.split else 1, d))
-        self.g_vel = cuda.device_array((cap, d))
-        self.g_vel_old = cuda.device_array((cap if self.split else 1, d))
+        f = self.dtype
+        self.g_mass = cuda.device_array(cap, f)
+        self.g_mom = cuda.device_array((cap, d), f)
+        self.g_force = cuda.device_array((cap if self.split else 1, d), f)
+        self.g_vel = cuda.device_array((cap, d), f)
+        self.g_vel_old = cuda.device_array((cap if self.split else 1, d), f)
 
     def nbytes(self) -> int:
         return sum(a.nbytes for a in (self.g_mass, self.g_mom, self.g_force, self.g_vel, self.g_vel_old))
@@ -81,7 +85,7 @@ class CudaBackend(Backend):
         g = scene.grid
         self.S = support(g.kind)
         self.mode = SCHEMES.index(scene.transfer)
-        self.buffers = _DeviceGrid(g, split_force)
+        self.buffers = _DeviceGrid(g, split_force, self.state.dtype)
         self.mass_eps = 1e-9 * float(self.state.p_mass.min()) if self.state.n else 0.0
         self.max_rate = None
         self._origin = cuda.to_device(np.ascontiguousarray(g.origin, dtype=np.float64))
@@ -90,6 +94,7 @@ class CudaBackend(Backend):
         self._laws = [cuda_loops.stress_kernel(type(m)) for m in scene.materials]
         self._dev: dict = {}
         self._dev_state: list = []
+        self._tables: dict = {}  # (stage, pass) -> (its aux on the host, the device copy)
         self._on_host = True  # the host arrays are current; the next kernel uploads them
 
     # -- host <-> device -------------------------------------------------------------------------------
@@ -191,10 +196,28 @@ class CudaBackend(Backend):
         return step_limit(sc, speed, self.max_rate)
 
     def sort_particles(self) -> None:
-        st = self.host_state()  # on the host for now (module docstring)
-        st.sort_by_cell(self.scene.grid.origin, self.scene.grid.h)
+        """The counting sort on the device (backend/cuda_sort.py); only the permutation comes to the host,
+        for the arrays that live there (ids, bodies, reference volumes)."""
+        st = self.state
+        if not st.n:
+            return
+        dev = self._device()
+        perm = cuda_sort.cell_order(dev["p_x"], self._origin, self.scene.grid.h, st.blocks)
+        for k in DEVICE_ARRAYS:
+            dev[k] = cuda_sort.gather(dev[k], perm)
+        self._dev_state = [cuda_sort.gather(sv, perm[s:e], s) for sv, (s, e) in zip(self._dev_state, st.blocks)]
+        st.reorder(perm.copy_to_host(), skip=DEVICE_ARRAYS, states=False)
 
     # -- stages ------------------------------------------------------------------------------------------
+    def _table(self, stage, kind: str, aux):
+        """The stage's ``aux`` on the device, uploaded once per array object: a table is read-only once
+        handed over, and a stage that changes it hands a new array (stages.py)."""
+        key = (id(stage), kind)
+        held = self._tables.get(key)
+        if held is None or held[0] is not aux:
+            held = self._tables[key] = (aux, cuda.to_device(np.ascontiguousarray(aux)))
+        return held[1]
+
     def grid_stage(self, stage, view, dt: float, time: float, remap: bool) -> None:
         args = stage.grid_args(dt, time, remap)
         if args is None:
@@ -222,7 +245,7 @@ class CudaBackend(Backend):
             v_old = view.g_vel_old if view.g_vel_old is not None else view.g_vel
             f = view.g_force if view.g_force is not None else view.g_vel
             kern[K.blocks(total), K.THREADS](
-                cuda.to_device(np.ascontiguousarray(prm)), cuda.to_device(np.ascontiguousarray(aux)), dt,
+                cuda.to_device(np.ascontiguousarray(prm)), self._table(stage, "grid", aux), dt,
                 self._origin, self.scene.grid.h, lo, nloc, cuda.to_device(b0.astype(np.int64)),
                 cuda.to_device(bn.astype(np.int64)), total, view.g_mass, view.g_vel, v_old, f, out)
         stage.grid_reduced(out.copy_to_host().reshape(1, slots), dt, time, remap)
@@ -232,7 +255,7 @@ class CudaBackend(Backend):
         if args is None:
             return
         dev, st, cls = self._device(), self.state, type(stage)
-        prm, aux = (cuda.to_device(np.ascontiguousarray(a)) for a in args)
+        prm, aux = cuda.to_device(np.ascontiguousarray(args[0])), self._table(stage, "particle", args[1])
         slots = max(stage.particle_reduction, 1)
         out = cuda.to_device(np.zeros(slots))
         kern = cuda_loops.particle_kernel(cls.particle_rule, max(cls.particle_scratch, 1), slots,

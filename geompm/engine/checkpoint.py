@@ -76,6 +76,7 @@ def restore(sim, arrays: dict, meta: dict) -> None:
         setattr(st, name, np.ascontiguousarray(arrays[name]))
     st.blocks = [tuple(b) for b in meta["blocks"]]
     st.p_state = [np.ascontiguousarray(arrays[f"p_state_{k}"]) for k in range(len(st.blocks))]
+    st.set_precision(sim.scene.precision)  # a checkpoint resumes in the precision of the case that resumes it
     sim.time, sim.step_count, sim.dt = meta["time"], meta["step"], meta["dt"]
     for s in sim.grid_stages + sim.particle_stages:
         s.load_state(meta["stages"].get(s.label, {}))

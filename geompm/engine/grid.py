@@ -57,8 +57,8 @@ class GridBuffers:
     neither allocated nor offered to the stages.
     """
 
-    def __init__(self, spec: GridSpec, nchunks: int | None = None, split: bool = True):
-        self.spec = spec
+    def __init__(self, spec: GridSpec, nchunks: int | None = None, split: bool = True, dtype=np.float64):
+        self.spec, self.dtype = spec, np.dtype(dtype)
         self.nchunks = nchunks or numba.get_num_threads()
         self.split = split
         self.cap = 0
@@ -68,12 +68,13 @@ class GridBuffers:
         d, c = self.spec.dim, self.nchunks
         extra = d if self.split else 0
         self.cap = cap
-        self.c_grid = np.zeros((c, cap, 1 + d + extra))
-        self.g_mass = np.zeros(cap)
-        self.g_mom = np.zeros((cap, d))
-        self.g_force = np.zeros((cap if self.split else 0, d))
-        self.g_vel = np.zeros((cap, d))
-        self.g_vel_old = np.zeros((cap if self.split else 0, d))
+        f = self.dtype
+        self.c_grid = np.zeros((c, cap, 1 + d + extra), f)
+        self.g_mass = np.zeros(cap, f)
+        self.g_mom = np.zeros((cap, d), f)
+        self.g_force = np.zeros((cap if self.split else 0, d), f)
+        self.g_vel = np.zeros((cap, d), f)
+        self.g_vel_old = np.zeros((cap if self.split else 0, d), f)
 
     def nbytes(self) -> int:
         return sum(a.nbytes for a in (self.c_grid, self.g_mass, self.g_mom, self.g_force,

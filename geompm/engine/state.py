@@ -48,13 +48,13 @@ class ParticleState:
         if self.p_x0 is None:
             self.p_x0 = self.p_x.copy()
         if self.p_C is None:
-            self.p_C = np.zeros((n, d, d))
+            self.p_C = np.zeros((n, d, d), self.p_x.dtype)
         if self.p_vol is None:
             self.p_vol = self.p_vol0.copy()
         if self.p_rho is None:
             self.p_rho = self.p_mass / self.p_vol
         if self.p_L is None:
-            self.p_L = np.zeros((n, 3, 3))
+            self.p_L = np.zeros((n, 3, 3), self.p_x.dtype)
         if self.p_id is None:
             self.p_id = np.arange(n, dtype=np.int64)
 
@@ -74,6 +74,20 @@ class ParticleState:
         work = 0 if self.sort_work is None else self.sort_work.nbytes
         return sum(a.nbytes for a in self.arrays().values()) + sum(s.nbytes for s in self.p_state) + work
 
+    @property
+    def dtype(self):
+        """The floating-point type of the state (solver.precision)."""
+        return self.p_x.dtype
+
+    def set_precision(self, precision: str) -> None:
+        """Store every floating-point array as ``precision`` ('float64' or 'float32'); a float32 state
+        is computed in float64 registers by the kernels and rounded when stored."""
+        dtype = np.dtype(precision)
+        for name, arr in self.arrays().items():
+            if arr.dtype.kind == "f" and arr.dtype != dtype:
+                setattr(self, name, np.ascontiguousarray(arr, dtype=dtype))
+        self.p_state = [np.ascontiguousarray(sv, dtype=dtype) for sv in self.p_state]
+
     def sort_by_cell(self, origin, h) -> None:
         """Re-order every material block by grid cell (kernels/sort.py); blocks keep their extent."""
         from ..kernels.sort import cell_order
@@ -82,9 +96,10 @@ class ParticleState:
             return
         self.reorder(np.concatenate([cell_order(self.p_x, origin, h, a, b) for a, b in self.blocks]))
 
-    def reorder(self, perm: np.ndarray) -> None:
+    def reorder(self, perm: np.ndarray, skip=(), states: bool = True) -> None:
         """Put particle perm[k] at row k, for a permutation that keeps every index inside its material
-        block (the sort, the benchmark's shuffle)."""
+        block (the sort, the benchmark's shuffle).  ``skip`` names arrays left as they are and
+        ``states=False`` leaves the state variables (a backend that holds and sorts them itself)."""
         from ..kernels.sort import SLAB, permute_in_place
 
         perm = np.ascontiguousarray(perm, dtype=np.int64)
@@ -93,9 +108,10 @@ class ParticleState:
         work = self.sort_work
         if work is None or work.shape[0] < self.n:
             work = self.sort_work = np.empty((self.n, SLAB))
-        for arr in self.arrays().values():
-            permute_in_place(arr, perm, work)
-        for (a, b), sv in zip(self.blocks, self.p_state):
+        for name, arr in self.arrays().items():
+            if name not in skip:
+                permute_in_place(arr, perm, work)
+        for (a, b), sv in zip(self.blocks if states else (), self.p_state):
             if sv.size:
                 permute_in_place(sv, np.ascontiguousarray(perm[a:b] - a), work)
 

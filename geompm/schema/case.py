@@ -88,6 +88,12 @@ class SolverSpec(Strict):
         "cpu", description="Where the step's kernels run: 'cpu' (numba, all cores) or 'cuda' (an NVIDIA GPU "
         "through numba-cuda: pip install 'geompm[cuda]'; NUMBA_ENABLE_CUDASIM=1 runs it on numba-cuda's "
         "simulator, slowly, for tests; docs/performance.md)")
+    precision: Literal["float64", "float32"] = Field(
+        "float64", description="Floating-point width of the particle and grid arrays: 'float64', or "
+        "'float32' (half the bytes per particle, for the GPU's bandwidth; the kernels still compute in "
+        "float64 registers, the stored state is rounded to float32 each step: the errors this costs are "
+        "measured in docs/performance.md). float32 positions need coordinates near the grid: refused when "
+        "float32 spacing at the grid's far corner exceeds 1e-3 of a cell")
     sort_interval: int = Field(
         100, ge=0, description="Re-order the particles of each material by grid cell every this many steps "
         "(cache locality of the particle-grid transfers once a flow has mixed them; docs/performance.md); "

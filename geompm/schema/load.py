@@ -249,6 +249,25 @@ _PLUGIN_LISTS = (
 BACKEND_KINDS = ("materials", "boundaries", "obstacles", "damping")
 
 
+#: float32 spacing at a coordinate X is at most X * 2^-23; positions must resolve this fraction of a cell
+FLOAT32_CELL_FRACTION = 1.0e-3
+
+
+def _check_precision(case: Case, problems) -> None:
+    """float32 positions only where float32 resolves 1e-3 of a cell everywhere on the grid."""
+    if case.solver.precision != "float32":
+        return
+    o, e = np.asarray(case.grid.origin, float), np.asarray(case.grid.extent, float)
+    far = float(np.max(np.maximum(np.abs(o), np.abs(o + e))))
+    ulp = far * 2.0 ** -23
+    h = case.grid.cell_size
+    if ulp > FLOAT32_CELL_FRACTION * h:
+        problems.append(("solver.precision", f"float32 positions are spaced up to {ulp:.3g} m at the grid's far "
+                         f"corner ({far:.4g} m from the coordinate origin), more than {FLOAT32_CELL_FRACTION:g} of "
+                         f"the {h:g} m cell; use \"float64\", or a grid within {FLOAT32_CELL_FRACTION * h * 2**23:.4g} "
+                         "m of the origin"))
+
+
 def _backend_problem(case: Case) -> str | None:
     """Why solver.backend cannot run here, or None."""
     if case.solver.backend != "cuda":
@@ -332,6 +351,7 @@ def _parse_valid_numbers(raw: dict, base_dir: Path) -> LoadedCase:
                                             "'quadratic' or 'cubic'; use 'apic' with 'linear'"))
     for i, body in enumerate(case.bodies):
         _check_body(i, body, case, base_dir, problems)
+    _check_precision(case, problems)
     why = _backend_problem(case)
     if why:
         problems.append(("solver.backend", why))
