@@ -43,6 +43,7 @@ class Scene:
     backend: str = "cpu"  # solver.backend (backend/__init__.py)
     sort_interval: int = 100  # solver.sort_interval: steps between two spatial sorts; 0 never
     precision: str = "float64"  # solver.precision: the particle and grid arrays' dtype
+    p2g: str = "atomic"  # solver.p2g: the cuda backend's P2G kernel
     dt_min: float = 1e-9
     base_dir: object = None  # folder of the case file: relative paths (meshes) start there
     boundaries: list = field(default_factory=list)
@@ -191,6 +192,7 @@ def assemble(loaded: LoadedCase) -> Scene:
         dt_min=case.time.dt_min, run_options=case.run,
         transfer=case.solver.transfer, flip_ratio=case.solver.flip_ratio,
         backend=case.solver.backend, sort_interval=case.solver.sort_interval, precision=case.solver.precision,
+        p2g=case.solver.p2g,
         flip_tau=case.solver.flip_relaxation_time,
         musl=case.solver.update == "musl",
         apic_dinv=(1.0 / (APIC_D_FACTOR[kind] * h * h)) if APIC_D_FACTOR[kind] > 0 else 0.0,

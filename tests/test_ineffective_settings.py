@@ -3,7 +3,8 @@
 Two stages with one label write the same series.csv columns and checkpoint state: refused, naming
 the second one's JSON path.  A setting that has no effect in its context is warned about, naming
 its path, by `geompm validate` (and `geompm run`): flip_ratio without FLIP, cfl with a fixed dt, a
-2D polygon's extrude and a 2D cylinder's axis/length.
+2D polygon's extrude, a 2D cylinder's axis/length,
+and the CUDA backend's P2G choice on the CPU.
 """
 
 import json
@@ -46,8 +47,13 @@ def _cylinder_axis_2d(c):
     c["obstacles"] = [{"type": "cylinder", "center": [0.8, 0.1], "radius": 0.05, "axis": "x"}]
 
 
+def _tiled_p2g_on_cpu(c):
+    c["solver"]["p2g"] = "tiled"
+
+
 @pytest.mark.parametrize("mutate,path", [
     (_flip_ratio, "solver.flip_ratio"),
+    (_tiled_p2g_on_cpu, "solver.p2g"),
     (_cfl_with_dt, "time.cfl"),
     (_extrude_2d, "bodies.0.geometry.extrude"),
     (_cylinder_axis_2d, "obstacles.0.axis"),

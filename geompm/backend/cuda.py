@@ -12,7 +12,9 @@ moves only a few numbers to the host: the grid window's bounds, the time
 step's speed and density extremes and largest |L_ii|, and each stage's
 reduction row.
 
-Kernels: P2G by atomics, the grid update and G2P (backend/cuda_kernels.py);
+Kernels: P2G by atomics (or, with ``solver.p2g: "tiled"``, through a
+shared-memory tile per thread block), the grid update and G2P
+(backend/cuda_kernels.py);
 one kernel per law and per stage function around the plugin's own
 ``@njit`` per-item function (backend/cuda_loops.py).  A stage's ``prm`` (a
 few numbers that may change between steps) goes to the device at every
@@ -22,7 +24,7 @@ and again only when the stage hands a different array.
 The spatial sort runs on the device (backend/cuda_sort.py): only its
 permutation comes to the host, for the host-only arrays.
 
-Not built yet (issue 21): shared-memory P2G, and a measurement on a GPU.
+Not built yet (issue 21): kernels cached on disk, and a measurement on a GPU.
 """
 
 from __future__ import annotations
@@ -138,7 +140,8 @@ class CudaBackend(Backend):
         force = view.g_force if self.split_force else view.g_mom
         K.zero_grid[K.blocks(nn), K.THREADS](view.g_mass, view.g_mom, force, self.split_force)
         if st.n:
-            K.p2g[K.blocks(st.n), K.THREADS](
+            kern = K.p2g_tiled if self.scene.p2g == "tiled" else K.p2g
+            kern[K.blocks(st.n), K.THREADS](
                 self.S, self.mode, dev["p_x"], dev["p_v"], dev["p_C"], dev["p_mass"], dev["p_vol"], dev["p_stress"],
                 self._origin, g.h, g.kind, cuda.to_device(view.lo), cuda.to_device(view.nloc), self.split_force,
                 f_scale, self.scene.apic_dinv, view.g_mass, view.g_mom, force)

@@ -84,11 +84,50 @@ def _node(s, S, d, base, lo, nloc, w, dw, k, gw):
     return idx, wt
 
 
+@cuda.jit(device=True)
+def _p2g_entry(s, S, mode, d, p, p_x, p_v, p_C, p_stress, origin, h, base, lo, nloc, w, dw, k, gw, dx, dinv, m, nv,
+               split, val):
+    """Stencil entry s of particle p: its flat window index; val[0] = w m_p, val[1 + a] = w m_p (v_p + C_p
+    (x_i - x_p))_a (plus the force when folded), val[1 + d + a] = -f_scale V_p (sigma_p grad w)_a (split);
+    k holds the entry's offsets from base."""
+    idx, wt = _node(s, S, d, base, lo, nloc, w, dw, k, gw)
+    for a in range(d):
+        dx[a] = (base[a] + k[a]) * h + origin[a] - p_x[p, a]
+    if mode == 3:
+        for a in range(d):
+            gw[a] = dinv * wt * dx[a]
+    val[0] = wt * m
+    for a in range(d):
+        mv = p_v[p, a]
+        for b in range(d):
+            mv += p_C[p, a, b] * dx[b]
+        f = 0.0
+        for b in range(d):
+            f += p_stress[p, _voigt(a, b)] * gw[b]
+        if split:
+            val[1 + a] = wt * m * mv
+            val[1 + d + a] = nv * f
+        else:
+            val[1 + a] = wt * m * mv + nv * f
+    return idx
+
+
+@cuda.jit(device=True)
+def _add_node(g_mass, g_mom, g_force, idx, val, d, split):
+    """Add a node's row (mass, momentum, force: _p2g_entry's layout) into the grid with global atomics."""
+    cuda.atomic.add(g_mass, idx, val[0])
+    for a in range(d):
+        cuda.atomic.add(g_mom, (idx, a), val[1 + a])
+        if split:
+            cuda.atomic.add(g_force, (idx, a), val[1 + d + a])
+
+
 @cuda.jit
 def p2g(S, mode, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc, split, f_scale, dinv,
         g_mass, g_mom, g_force):
     """m_i += w m_p; (mv)_i += w m_p (v_p + C_p (x_i - x_p)); f_i -= f_scale V_p sigma_p grad w (MLS, mode 3:
-    grad w ~ D^-1 w (x_i - x_p)); folded (not split): the force goes into the momentum."""
+    grad w ~ D^-1 w (x_i - x_p)); folded (not split): the force goes into the momentum.  One thread per
+    particle, every entry added into the grid with a global atomic."""
     p = cuda.grid(1)
     if p >= p_x.shape[0]:
         return
@@ -99,32 +138,103 @@ def p2g(S, mode, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nl
     k = cuda.local.array(3, int64)
     gw = cuda.local.array(3, float64)
     dx = cuda.local.array(3, float64)
+    val = cuda.local.array(7, float64)
     inv_h = 1.0 / h
     for a in range(d):
         base[a] = _axis((p_x[p, a] - origin[a]) * inv_h, kind, inv_h, w[a], dw[a])
     m = p_mass[p]
     nv = -p_vol[p] * f_scale
+    for s in range(S ** d):
+        idx = _p2g_entry(s, S, mode, d, p, p_x, p_v, p_C, p_stress, origin, h, base, lo, nloc, w, dw, k, gw, dx,
+                         dinv, m, nv, split, val)
+        _add_node(g_mass, g_mom, g_force, idx, val, d, split)
+
+
+#: nodes of the shared-memory tile of p2g_tiled (7 float64 columns: 28 KiB of the 48 KiB a block may
+#: take statically); the simulator's is small, so that its 3D scenes also take the fallback
+TILE = 32 if simulated() else 512
+_FAR = 1 << 62
+
+
+@cuda.jit
+def p2g_tiled(S, mode, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc, split, f_scale, dinv,
+              g_mass, g_mom, g_force):
+    """p2g with a block-local accumulation: the block's particles (consecutive, so neighbours once sorted
+    by cell) add into a float64 tile of shared memory over the nodes their stencils cover, and the tile
+    is added into the grid once per node, so a node shared by the block's particles takes one global
+    atomic instead of one per particle.  A block whose stencils span more than TILE nodes (particles
+    not sorted, or a block across a row of cells) adds with global atomics, as p2g."""
+    sh = cuda.shared.array((TILE, 7), float64)
+    box = cuda.shared.array((2, 3), int64)
+    t = cuda.threadIdx.x
+    nt = cuda.blockDim.x
+    p = cuda.grid(1)
+    live = p < p_x.shape[0]
+    d = p_x.shape[1]
+    w = cuda.local.array((3, 4), float64)
+    dw = cuda.local.array((3, 4), float64)
+    base = cuda.local.array(3, int64)
+    k = cuda.local.array(3, int64)
+    gw = cuda.local.array(3, float64)
+    dx = cuda.local.array(3, float64)
+    val = cuda.local.array(7, float64)
+    ext = cuda.local.array(3, int64)
+    if t < 3:
+        box[0, t] = _FAR
+        box[1, t] = -_FAR
+    cuda.syncthreads()
+    inv_h = 1.0 / h
+    if live:
+        for a in range(d):
+            base[a] = _axis((p_x[p, a] - origin[a]) * inv_h, kind, inv_h, w[a], dw[a])
+            cuda.atomic.min(box, (0, a), base[a])
+            cuda.atomic.max(box, (1, a), base[a] + S - 1)
+    cuda.syncthreads()
+    size = 1
+    for a in range(d):
+        ext[a] = box[1, a] - box[0, a] + 1
+        size *= ext[a]
+    ncol = 1 + d + (d if split else 0)
     nst = S ** d
-    for s in range(nst):
-        idx, wt = _node(s, S, d, base, lo, nloc, w, dw, k, gw)
-        for a in range(d):
-            dx[a] = (base[a] + k[a]) * h + origin[a] - p_x[p, a]
-        if mode == 3:
+    if size > TILE:  # the same for every thread of the block: no barrier below is skipped by some
+        if live:
+            m = p_mass[p]
+            nv = -p_vol[p] * f_scale
+            for s in range(nst):
+                idx = _p2g_entry(s, S, mode, d, p, p_x, p_v, p_C, p_stress, origin, h, base, lo, nloc, w, dw, k,
+                                 gw, dx, dinv, m, nv, split, val)
+                _add_node(g_mass, g_mom, g_force, idx, val, d, split)
+        return
+    for q in range(t, size, nt):
+        for c in range(ncol):
+            sh[q, c] = 0.0
+    cuda.syncthreads()
+    if live:
+        m = p_mass[p]
+        nv = -p_vol[p] * f_scale
+        for s in range(nst):
+            _p2g_entry(s, S, mode, d, p, p_x, p_v, p_C, p_stress, origin, h, base, lo, nloc, w, dw, k, gw, dx,
+                       dinv, m, nv, split, val)
+            q = 0
             for a in range(d):
-                gw[a] = dinv * wt * dx[a]
-        cuda.atomic.add(g_mass, idx, wt * m)
-        for a in range(d):
-            mv = p_v[p, a]
-            for b in range(d):
-                mv += p_C[p, a, b] * dx[b]
-            f = 0.0
-            for b in range(d):
-                f += p_stress[p, _voigt(a, b)] * gw[b]
-            if split:
-                cuda.atomic.add(g_mom, (idx, a), wt * m * mv)
-                cuda.atomic.add(g_force, (idx, a), nv * f)
-            else:
-                cuda.atomic.add(g_mom, (idx, a), wt * m * mv + nv * f)
+                q = q * ext[a] + (base[a] + k[a] - box[0, a])
+            for c in range(ncol):
+                cuda.atomic.add(sh, (q, c), val[c])
+    cuda.syncthreads()
+    for q in range(t, size, nt):
+        used = False
+        for c in range(ncol):
+            if sh[q, c] != 0.0:
+                used = True
+        if used:
+            rem = q
+            idx = 0
+            stride = 1
+            for a in range(d - 1, -1, -1):
+                idx += (box[0, a] + rem % ext[a] - lo[a]) * stride
+                stride *= nloc[a]
+                rem //= ext[a]
+            _add_node(g_mass, g_mom, g_force, idx, sh[q], d, split)
 
 
 @cuda.jit

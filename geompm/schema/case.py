@@ -88,6 +88,12 @@ class SolverSpec(Strict):
         "cpu", description="Where the step's kernels run: 'cpu' (numba, all cores) or 'cuda' (an NVIDIA GPU "
         "through numba-cuda: pip install 'geompm[cuda]'; NUMBA_ENABLE_CUDASIM=1 runs it on numba-cuda's "
         "simulator, slowly, for tests; docs/performance.md)")
+    p2g: Literal["atomic", "tiled"] = Field(
+        "atomic", description="Backend 'cuda' only: how P2G adds into the grid: 'atomic' (a global atomic per "
+        "particle and node) or 'tiled' (each thread block first adds its particles into a shared-memory tile, "
+        "then one atomic per node; pays where many particles of a block share nodes, i.e. once sorted by "
+        "cell). Results differ at round-off only; which is faster depends on the GPU (geompm bench --set "
+        "solver.p2g=tiled; docs/performance.md)")
     precision: Literal["float64", "float32"] = Field(
         "float64", description="Floating-point width of the particle and grid arrays: 'float64', or "
         "'float32' (half the bytes per particle, for the GPU's bandwidth; the kernels still compute in "

@@ -374,6 +374,9 @@ def ineffective_settings(raw: dict, case: Case) -> list[tuple[str, str]]:
     if "flip_ratio" in solver and case.solver.transfer != "flip":
         out.append(("solver.flip_ratio", f"applies to transfer 'flip' only (transfer is '{case.solver.transfer}'); "
                                          "set solver.transfer to \"flip\" or remove flip_ratio"))
+    if "p2g" in solver and case.solver.backend != "cuda":
+        out.append(("solver.p2g", f"applies to solver.backend 'cuda' only (backend is '{case.solver.backend}': "
+                                  "the CPU adds into private grids per thread); remove it"))
     if "cfl" in time and case.time.dt is not None:
         out.append(("time.cfl", f"has no effect with a fixed time.dt = {case.time.dt:g} s; remove one of them "
                                 "(the adaptive step uses cfl, a fixed dt replaces it)"))
