@@ -9,8 +9,9 @@
 - The scenes and checks run in two processes, one per CI core (cuda_parity.py --part).
 - Checkpoints across backends: 2 steps on cuda, a checkpoint, the third on the CPU (and the reverse)
   equal 3 steps on the CPU within 1e-9.
-- float32 (solver.precision): two 3D DP scenes in float32 on both backends agree within 5e-5 (measured
-  6.0e-7 and 9.3e-7: the order of the P2G sums in float32).
+- float32 (solver.precision): two scenes in float32 (2D DP, and elastic through the tiled P2G) agree
+  within 2e-4 on both backends (measured 1.4e-5 on a stress: the order of the P2G sums in float32, which
+  the simulator's threads change from run to run; a wrong index or a missed term differs at O(1)).
 - Parity: tests/cuda_parity.py runs 14 float64 tiny scenes (36-64 particles, 3 steps) on both backends in a
   subprocess with NUMBA_ENABLE_CUDASIM=1: every built-in law (and the mu_i plugin), both integrations
   of the yield fluids, PIC/APIC/FLIP/MLS, linear/quadratic/cubic, USL/MUSL, 2D and 3D, and every
@@ -94,7 +95,7 @@ def test_cuda_backend_matches_the_cpu_on_every_law_and_stage_under_the_simulator
         assert r["dtype"] == (["float32"] * 2 if f32 else ["float64"] * 2), name
         assert r["same_order"], f"{name}: the device sort ordered the particles differently from the CPU's"
         # float32: both backends round the same float64 arithmetic to float32; the P2G sums' order differs
-        tol = 5e-5 if f32 else 1e-9
+        tol = 2e-4 if f32 else 1e-9
         assert r["steps"] == [3, 3] and r["time"][0] == pytest.approx(r["time"][1], rel=1e-12 if not f32 else 1e-6), name
         for field, diff in r["fields"].items():
             assert diff < tol, f"{name}: {field} differs by {diff:.2e} relative"
