@@ -286,7 +286,21 @@ def main(argv=None) -> int:
     ap.add_argument("--part", default="1/1", metavar="K/N",
                     help="run every N-th tiny scene from the K-th (and the checks in the last part): N processes "
                          "share the scenes (tests/test_cuda_backend.py runs 2, one per CI core)")
+    ap.add_argument("--record", metavar="FILE",
+                    help="write every distinct kernel launch and its argument types to FILE (simulator only), for "
+                         "tests/cuda_compile.py to compile them for a GPU without one")
     a = ap.parse_args(argv)
+    if a.record:
+        from geompm.backend.cuda_ptx import record
+
+        launches = record(lambda: compare_all(a))
+        Path(a.record).write_text(json.dumps(launches))
+        return 0
+    compare_all(a)
+    return 0
+
+
+def compare_all(a) -> None:
     k, n = (int(v) for v in a.part.split("/"))
     folder = Path(tempfile.mkdtemp(prefix="geompm-parity-"))
     all_scenes = scenes(folder)
@@ -325,7 +339,6 @@ def main(argv=None) -> int:
                "same_order": bool(np.array_equal(sa.state.p_id, sb.state.p_id)),
                "max_displacement": float(np.abs(fa["p_x"] - sa.state.p_x0[np.argsort(sa.state.p_id)]).max())}
         print(json.dumps(out), flush=True)
-    return 0
 
 
 if __name__ == "__main__":

@@ -27,6 +27,7 @@
 
 import json
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -55,25 +56,41 @@ def tiny_case(backend="cuda") -> dict:
     }
 
 
-@pytest.mark.slow
-@pytest.mark.run_last
-@pytest.mark.skipif(not HAS_NUMBA_CUDA, reason="numba-cuda is not installed (pip install 'geompm[cuda]')")
-def test_cuda_backend_matches_the_cpu_on_every_law_and_stage_under_the_simulator():
-    env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1")
-    # two processes, one per CI core: the scenes compile their CPU loops and simulate their kernels in turn
+def two_parts(args: list, env: dict, record: Path | None = None) -> list[tuple[int, str, str]]:
+    """``python ARGS --part K/2`` for K = 1 and 2 at once, one per CI core (with ``record``, each part also
+    writes its kernel launches to record/launches-K.json); each part's exit code, stdout and stderr."""
     files = [(tempfile.TemporaryFile("w+"), tempfile.TemporaryFile("w+")) for _ in range(2)]
-    parts = [subprocess.Popen([sys.executable, str(ROOT / "tests" / "cuda_parity.py"), "--steps", "3", "--part",
-                               f"{k}/2"], env=env, stdout=out, stderr=err, text=True, cwd=ROOT)
+    parts = [subprocess.Popen([sys.executable, *args, "--part", f"{k}/2",
+                               *(["--record", str(record / f"launches-{k}.json")] if record else [])],
+                              env=env, stdout=out, stderr=err, text=True, cwd=ROOT)
              for k, (out, err) in zip((1, 2), files)]
-    texts = []
+    runs = []
     for proc, (out, err) in zip(parts, files):
         code = proc.wait(timeout=900)
         out.seek(0)
         err.seek(0)
-        texts.append(out.read())
-        assert code == 0, err.read()[-3000:]
-    lines = texts[1].splitlines() + texts[0].splitlines()  # the checks come first, from the last part
-    rows = [json.loads(line) for line in lines if line.startswith("{")]
+        runs.append((code, out.read(), err.read()))
+    return runs
+
+
+@pytest.fixture(scope="module")
+def simulated_parity(tmp_path_factory):
+    """tests/cuda_parity.py's tiny scenes and checks under the simulator, in two processes: their JSON rows
+    (the checks first, from the last part) and the files of kernel launches they recorded."""
+    folder = tmp_path_factory.mktemp("launches")
+    runs = two_parts([str(ROOT / "tests" / "cuda_parity.py"), "--steps", "3"],
+                     dict(os.environ, NUMBA_ENABLE_CUDASIM="1"), record=folder)
+    for code, _, err in runs:
+        assert code == 0, err[-3000:]
+    lines = runs[1][1].splitlines() + runs[0][1].splitlines()
+    return [json.loads(line) for line in lines if line.startswith("{")], sorted(folder.glob("launches-*.json"))
+
+
+@pytest.mark.slow
+@pytest.mark.run_last
+@pytest.mark.skipif(not HAS_NUMBA_CUDA, reason="numba-cuda is not installed (pip install 'geompm[cuda]')")
+def test_cuda_backend_matches_the_cpu_on_every_law_and_stage_under_the_simulator(simulated_parity):
+    rows = list(simulated_parity[0])
     check = rows.pop(0)
     assert check["check"] == "sort" and all(check["sort_equal"]) and check["scan_equal"], check
     resume = rows.pop(0)
@@ -110,6 +127,69 @@ def test_cuda_backend_matches_the_cpu_on_every_law_and_stage_under_the_simulator
         if name.endswith("_guard"):
             depth = [v for k, v in r["last_row"].items() if k.endswith("_max_depth")]
             assert depth and max(depth) > 1e-3, f"{name}: the guard did not act"
+
+
+def has_nvvm() -> bool:
+    try:
+        from cuda.pathfinder import load_nvidia_dynamic_lib
+
+        load_nvidia_dynamic_lib("nvvm")
+        load_nvidia_dynamic_lib("nvrtc")
+        return True
+    except Exception:  # no cuda-pathfinder or no NVVM/NVRTC: nothing to compile with
+        return False
+
+
+def cuda_functions() -> dict:
+    """label -> plugin, for every function of every installed plugin that declares the cuda backend."""
+    from geompm import registry
+    from geompm.backend.cuda_ptx import function_ref
+
+    out = {}
+    for group, attrs in (("materials", ("particle_stress",)),
+                         *((g, ("node_rule", "particle_rule", "node_image")) for g in ("damping", "boundaries",
+                                                                                       "obstacles"))):
+        for name, info in registry.available(group).items():
+            if "cuda" in info.plugin.backends:
+                for attr in attrs:
+                    fn = getattr(info.plugin, attr, None)
+                    if fn is not None:
+                        out[function_ref(fn)[1]] = f"{group}.{name}.{attr}"
+    return out
+
+
+@pytest.mark.slow
+@pytest.mark.run_last
+@pytest.mark.skipif(not HAS_NUMBA_CUDA, reason="numba-cuda is not installed (pip install 'geompm[cuda]')")
+@pytest.mark.skipif(not has_nvvm(), reason="NVVM/NVRTC not installed (the test extra's cuda-toolkit wheels)")
+def test_every_kernel_compiles_for_an_h200_without_a_gpu(simulated_parity):
+    """The simulator runs kernels as Python and never types them: np.sqrt of a scalar (which the CUDA
+    target lacks) passed it in dp_stress and mu_i_stress, np.floor in the obstacles' lattice lookup.  Here
+    every distinct kernel launch the parity scenes made (tests/cuda_compile.py; 45 kernel/type lists) is
+    compiled by numba-cuda to PTX for compute capability 9.0 (H100/H200) with every plugin function as a
+    device function, then by ptxas to machine code.  Asserted: each compiles; every function of every
+    plugin that declares the cuda backend and every kernel of backend/cuda_kernels.py and cuda_sort.py is
+    among them; no kernel spills registers (measured: none; the most registers are mohr_coulomb's law
+    kernel, 108 per thread, and the tiled P2G's, 100, with 28.7 kB of shared memory)."""
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_ENABLE_CUDASIM"}
+    runs = two_parts([str(ROOT / "tests" / "cuda_compile.py"), *map(str, simulated_parity[1])], env)
+    results = [json.loads(line) for _, out, _ in runs for line in out.splitlines() if line.startswith("{")]
+    failed = [f"{r['kernel']} ({', '.join(r['types'])}): {r['error']}" for r in results if not r["ok"]]
+    assert not failed, "kernels numba-cuda cannot compile for the GPU:\n" + "\n".join(failed)
+    for code, _, err in runs:
+        assert code == 0, err[-3000:]
+    compiled = {r["kernel"] for r in results}  # "p2g", "law:drucker_prager.dp_stress", "merge:periodic_image"
+    functions = {part.rsplit(".", 1)[-1] for k in compiled for part in k.split(":", 1)[-1].split(",")}
+    missing = [plugin for fn, plugin in cuda_functions().items() if fn not in functions]
+    assert not missing, f"declared for cuda but not compiled by any parity scene: {missing}"
+    own = {name for f in ("cuda_kernels.py", "cuda_sort.py")
+           for name in re.findall(r"@cuda\.jit\s*\ndef (\w+)", (ROOT / "geompm" / "backend" / f).read_text())}
+    assert len(own) >= 15 and own <= compiled, f"kernels no scene launched: {sorted(own - compiled)}"
+    assert len(results) >= 40
+    with_stats = [r for r in results if "registers" in r]
+    assert len(with_stats) == len(results), [r.get("ptxas_error") for r in results if "registers" not in r]
+    spills = {r["kernel"]: r["spill_store_bytes"] for r in with_stats if r["spill_store_bytes"]}
+    assert not spills, f"register spills (bytes stored): {spills}"
 
 
 def test_cuda_without_numba_cuda_is_refused_at_solver_backend(monkeypatch):

@@ -20,7 +20,8 @@ sizes are compiled into the kernel (the stage's ``node_scratch`` and
 reduction length); a thread adds its ``out`` into the pass's single row with
 atomics, taking the maximum instead for the slots a stage lists in
 ``node_maxima`` / ``particle_maxima`` (stages.py).  The kernels are made
-per process (exec'd source, not cached on disk).
+per process (exec'd source, not cached on disk); each keeps the recipe that builds it again
+(``__geompm_recipe__``), from which backend/cuda_ptx.py compiles it for a GPU without one.
 """
 
 from __future__ import annotations
@@ -135,7 +136,8 @@ def _pass_source(template: str, scratch: int, slots: int, maxima) -> str:
 def _kernel(kind: str, name: str, source: str, functions: dict):
     key = (kind, source, tuple(functions.items()))
     if key not in _CACHE:
-        namespace = {"cuda": cuda, "float64": float64, "math": math}
+        namespace = {"cuda": cuda, "float64": float64, "math": math,
+                     "__geompm_recipe__": {"kind": kind, "name": name, "source": source, "functions": functions}}
         namespace.update({alias: _device(fn) for alias, fn in functions.items()})
         exec(source, namespace)
         _CACHE[key] = namespace[name]
@@ -162,7 +164,8 @@ def merge_kernel(image):
 
     key = ("merge", image)
     if key not in _CACHE:
-        namespace = {"cuda": cuda, "njit": njit, "node_image": image}
+        namespace = {"cuda": cuda, "njit": njit, "node_image": image,
+                     "__geompm_recipe__": {"kind": "merge", "image": image}}
         exec(MERGE_NODE.replace(", cache=True", ""), namespace)
         namespace["merge_node"] = _device(namespace["merge_node"])
         exec(MERGE, namespace)

@@ -50,8 +50,9 @@ class Material(Plugin):
     rate_dependent: ClassVar[bool] = False
 
     #: the backends whose compilation of particle_stress has been checked (geompm plugins lists them;
-    #: a case on another backend is refused): a law in the CUDA subset (no array creation, no
-    #: np.linalg, no Python objects) checked against the CPU under numba-cuda's simulator may add "cuda"
+    #: a case on another backend is refused): a law in the CUDA subset (math.* not np.* on scalars, no
+    #: array creation, no np.linalg, no Python objects), checked against the CPU under numba-cuda's
+    #: simulator (tests/cuda_parity.py) and compiled for a GPU (tests/cuda_compile.py), may add "cuda"
     backends: ClassVar[tuple[str, ...]] = ("cpu",)
     #: names of the packed parameters (layout.py)
     layout: ClassVar = param_layout("density")

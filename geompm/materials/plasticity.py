@@ -82,7 +82,7 @@ def sqrt_j2(s, mean):
     d0 = s[0] - mean
     d1 = s[1] - mean
     d2 = s[2] - mean
-    return np.sqrt(0.5 * (d0 * d0 + d1 * d1 + d2 * d2) + s[3] * s[3] + s[4] * s[4] + s[5] * s[5])
+    return math.sqrt(0.5 * (d0 * d0 + d1 * d1 + d2 * d2) + s[3] * s[3] + s[4] * s[4] + s[5] * s[5])
 
 
 

@@ -29,6 +29,8 @@ any segment that can reach the obstacle (|v| dt <= cfl h < h) lies inside it.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -93,7 +95,7 @@ def guard_rule(prm, field, dt, k, p_x, x0, p_v, C, m, s, work, out):
         seg = 0.0
         for a in range(d):
             seg += (w[x + a] - w[xo + a]) ** 2
-        seg = np.sqrt(seg)
+        seg = math.sqrt(seg)
         phi0 = _phi(field, prm, w, xo, base, frac, val, d)
         if seg > 0.0 and -hs < phi0 < seg:  # a start on the surface (phi0 ~ 0) is marched too
             t_out, t = 0.0, 0.0

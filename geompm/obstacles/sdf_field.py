@@ -8,6 +8,8 @@ the flat (points, 1 + d) field at a point.  Shared by the grid contact
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -28,7 +30,7 @@ def interp_field(field, prm, lat0, shape0, inv_h, w, x0, base0, frac0, val0, d):
         w[val0 + c] = 0.0
     for a in range(d):
         xi = (w[x0 + a] - prm[lat0 + a]) * inv_h
-        i = int(np.floor(xi))
+        i = int(math.floor(xi))
         i = min(max(i, 0), int(prm[shape0 + a]) - 2)
         w[base0 + a] = i
         w[frac0 + a] = min(max(xi - i, 0.0), 1.0)
