@@ -1,8 +1,10 @@
 #!/bin/sh
 # The GPU check of issue 21, for one machine with an NVIDIA GPU and no network (run from the repository root):
 #   sh benchmarks/device/run.sh [OUTDIR]
-# Installs geompm and numba-cuda from the wheels in benchmarks/device/wheels/ (not committed: fill it on a
-# machine with network with `pip download -d benchmarks/device/wheels -e '.[cuda]' numba-cuda`), prints the GPU,
+# Installs geompm with benchmarks/device/install.sh: the machine's python3 gives numpy, numba, numba-cuda and
+# CUDA, the wheels in benchmarks/device/wheels the rest (not committed: fill the folder on a machine with
+# network with `sh benchmarks/device/fetch_wheels.sh`, about 47 MB, and carry it: the device tool's
+# `carry: ["benchmarks/device/wheels"]`).  Then it prints the GPU,
 # benchmarks fluid3d and dp3d on the cuda backend at 64, 128 and 256 cells per side (204k, 1.6M, 13M
 # particles), float32 and float64 (solver.precision), the tiled P2G at 128 and 256 (solver.p2g), checks CPU against CUDA on the tiny scenes (the device
 # sort, a checkpoint across backends, two float32 scenes) and on cases/dam_break.json after 200 steps, and
@@ -15,9 +17,8 @@ here=$(cd "$(dirname "$0")" && pwd)
 {
   date -u
   nvidia-smi --query-gpu=name,memory.total,driver_version,clocks.max.sm --format=csv || echo "nvidia-smi failed"
-  python3 -m venv /tmp/geompm-gpu && . /tmp/geompm-gpu/bin/activate
-  pip install -q --no-index --find-links "$here/wheels" -e '.[cuda]' || { echo "install from wheels failed"; exit 2; }
-  python -c "import numba, numba_cuda; from numba import cuda; print('numba', numba.__version__, 'numba-cuda', numba_cuda.__version__); cuda.detect()"
+  . "$here/install.sh" || exit 2
+  python3 -c "from numba import cuda; cuda.detect()"
   export PYTHONUNBUFFERED=1
   for n in 64 128 256; do
     h=$(python3 -c "print(1/$n)")
@@ -34,7 +35,7 @@ here=$(cd "$(dirname "$0")" && pwd)
   done
   # the issue's equality check first; the tiny scenes (every law and stage) with what time is left: on a
   # fresh machine both sides compile cold
-  timeout 70 python tests/cuda_parity.py --steps 200 --case cases/dam_break.json || echo "dam-break parity failed"
-  timeout 60 python tests/cuda_parity.py --steps 3 || echo "tiny-scene parity failed or timed out"
+  timeout 70 python3 tests/cuda_parity.py --steps 200 --case cases/dam_break.json || echo "dam-break parity failed"
+  timeout 60 python3 tests/cuda_parity.py --steps 3 || echo "tiny-scene parity failed or timed out"
   date -u
 } 2>&1 | tee "$log"

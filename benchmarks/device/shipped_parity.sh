@@ -11,7 +11,7 @@ run() {
   sets=""
   for kv in "$@"; do sets="$sets --set $kv"; done
   # shellcheck disable=SC2086
-  python tests/cuda_parity.py --steps "$steps" --case "$case_file" ${SETS-$sets} || echo "{\"case\": \"$case_file\", \"failed\": true}"
+  python3 tests/cuda_parity.py --steps "$steps" --case "$case_file" ${SETS-$sets} || echo "{\"case\": \"$case_file\", \"failed\": true}"
 }
 run cases/elastic_bar.json grid.cell_size=1.0
 run cases/dam_break.json grid.cell_size=0.02
@@ -21,3 +21,4 @@ run cases/landslide.json grid.cell_size=0.5
 run cases/inclined_flow.json grid.cell_size=0.04
 run cases/debris_obstacle.json grid.cell_size=0.15
 run cases/terrain_debris_flow.json grid.cell_size=2.5
+run benchmarks/device/periodic_film.json grid.cell_size=0.02
