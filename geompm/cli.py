@@ -18,6 +18,7 @@ from .errors import CaseError, SimulationError
 from .fileio import atomic_write_text
 from .ownership import create_folder, mark_folder, marked_kind, may_write, owned_kind, remove_tree
 from .bench.command import add_parser as bench_parser
+from .cuda_check import add_parser as cuda_check_parser
 from .study.calibrate import add_parser as calibrate_parser
 from .study.command import add_parser as study_parser
 
@@ -407,6 +408,7 @@ def build_parser() -> argparse.ArgumentParser:
     study_parser(sub)
     calibrate_parser(sub)
     bench_parser(sub)
+    cuda_check_parser(sub)
     p = sub.add_parser("plugins", help="list installed plugins")
     p.set_defaults(func=cmd_plugins)
     p = sub.add_parser("schema", help="print the case JSON Schema (or write it with -o)")

@@ -46,7 +46,7 @@ class PlaneParams(Params):
 
 class Plane(HalfSpace):
     name = "plane"
-    backends = ("cpu", "cuda")  # checked against the CPU under numba-cuda's simulator (tests/cuda_parity.py)
+    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda_parity.py); compiles for sm_90 (tests/cuda_compile.py)
     description = "Rigid plane of any orientation (point, normal): slip, fixed or Coulomb friction"
     Params = PlaneParams
 

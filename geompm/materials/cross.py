@@ -130,7 +130,7 @@ def cross_stress(prm, dt, L, rho, s, state):
 
 class Cross(YieldFluid):
     name = "cross"
-    backends = ("cpu", "cuda")  # checked against the CPU under numba-cuda's simulator (tests/cuda_parity.py)
+    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda_parity.py); compiles for sm_90 (tests/cuda_compile.py)
     description = "Generalized Cross shear-thinning fluid with Tait EOS pressure (source eq. 6)"
     Params = CrossParams
     state_vars = ("shear_rate", "effective_viscosity")

@@ -159,7 +159,7 @@ def terrain_guard_rule(prm, z, dt, k, x, x0, v, C, m, s, work, out):
 
 class Terrain(ContactForceStage):
     name = "terrain"
-    backends = ("cpu", "cuda")  # checked against the CPU under numba-cuda's simulator (tests/cuda_parity.py)
+    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda_parity.py); compiles for sm_90 (tests/cuda_compile.py)
     description = "Rigid terrain from a DEM (GeoTIFF / ESRI ASCII grid): Coulomb friction, force history (3D)"
     Params = TerrainParams
     node_rule = terrain_node_rule

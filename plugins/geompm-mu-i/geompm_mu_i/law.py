@@ -89,7 +89,7 @@ def mu_i_stress(prm, dt, L, rho, s, state):
 
 class MuI(Material):
     name = "mu_i"
-    backends = ("cpu", "cuda")  # checked against the CPU under numba-cuda's simulator (geompm's tests/cuda_parity.py)
+    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator, compiles for sm_90 (geompm's tests/cuda_parity.py, cuda_compile.py)
     description = "mu(I) granular rheology (Jop, Forterre & Pouliquen 2006), elastoplastic form"
     Params = MuIParams
     state_vars = ("inertial_number", "plastic_strain")
