@@ -3,9 +3,10 @@
 A test-only law plugin (a ``.dist-info`` folder on PYTHONPATH, as pip installs one) wraps the built-in
 elastic update and multiplies by ``np.sqrt(1.0)``: the same numbers on the CPU and under numba-cuda's
 simulator (which runs the function as compiled CPU code), but the CUDA target has no ``np.sqrt`` of a
-scalar, the error that dp_stress carried until decision 48.  A case with that law beside the built-in
-elastic law must report every kernel, the plugin's law kernel as failed with numba-cuda's reason and
-every other one compiled with its registers, and exit 1.  Bad arguments are refused with exit 2
+scalar, the error that dp_stress carried until decision 48.  The plugin does not declare the cuda backend
+(its author runs this check before declaring it), so it is checked as if it did, with a note.  A case with
+that law beside the built-in elastic law must report every kernel, the plugin's law kernel as failed with
+numba-cuda's reason and every other one compiled with its registers, and exit 1.  Bad arguments are refused with exit 2
 before any work.
 """
 
@@ -37,6 +38,7 @@ class RootedElastic(LinearElastic):
     """Linear elasticity through np.sqrt (test plugin)."""
     name = "rooted_elastic"
     description = "test plugin: linear elastic, np.sqrt in the update"
+    backends = ("cpu",)  # not declared for cuda yet: cuda-check is what tells its author whether to
     particle_stress = rooted_stress
 '''
 
@@ -73,6 +75,7 @@ def test_cuda_check_names_the_plugin_function_that_cannot_compile(tmp_path):
     failed = [r for r in rows if not r["ok"]]
     assert [r["kernel"] for r in failed] == ["law:rooted_plugin.rooted_stress"], failed
     assert "sqrt" in failed[0]["error"]
+    assert "materials 'rooted_elastic' does not declare the cuda backend; checked as if it did" in res.stderr
     kernels = {r["kernel"] for r in rows if r["ok"]}
     assert {"p2g", "g2p", "grid_update", "law:linear_elastic.elastic_stress",
             "node:halfspace.halfspace_node_rule"} <= kernels, kernels
