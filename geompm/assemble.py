@@ -15,6 +15,7 @@ from .engine.grid import GridSpec
 from .engine.state import ParticleState
 from .errors import CaseError
 from .geometry import overlap_problems, seed_body
+from .kernels.overburden import column_overburden
 from .kernels.shape import APIC_D_FACTOR, KIND
 from .schema.case import RunSpec
 from .schema.load import LoadedCase
@@ -91,23 +92,13 @@ def geostatic_stress(pts, masses, volumes, k0, gravity, h, normal=None) -> np.nd
     height = pts @ up
     trans = pts - np.outer(height, up)
     keys = np.floor(trans / h + 1e-9).astype(np.int64)
-    _, col = np.unique(keys, axis=0, return_inverse=True)
-    col = col.ravel()
-    order = np.argsort(col, kind="stable")
-    rho = masses / volumes
-    spacing = volumes ** (1.0 / dim)
+    col = _column_ids(keys)
+    # particles at the same height form one level; by column, then top level first (stable: particle order)
+    level = -np.round(height / (1e-9 * h))
+    order = np.lexsort((level, col))
     w = np.empty(n)
-    for start, stop in _runs(col[order]):
-        idx = order[start:stop]
-        # particles at the same height form one level, top level first
-        levels, inv = np.unique(-np.round(height[idx] / (1e-9 * h)), return_inverse=True)
-        inv = inv.ravel()
-        cnt = np.bincount(inv, minlength=len(levels))
-        z = np.bincount(inv, weights=height[idx], minlength=len(levels)) / cnt
-        r = np.bincount(inv, weights=rho[idx], minlength=len(levels)) / cnt
-        top = 0.5 * r[0] * spacing[idx][inv == 0].mean()
-        wl = top + np.r_[0.0, np.cumsum(0.5 * (r[1:] + r[:-1]) * (z[:-1] - z[1:]))]
-        w[idx] = wl[inv]
+    w[order] = column_overburden(col[order], level[order], height[order], (masses / volumes)[order],
+                                 (volumes ** (1.0 / dim))[order])
     g3, n3 = np.zeros(3), np.zeros(3)
     g3[:dim], n3[:dim] = gravity, up
     gn = float(g3 @ n3)
@@ -119,11 +110,19 @@ def geostatic_stress(pts, masses, volumes, k0, gravity, h, normal=None) -> np.nd
     return out
 
 
-def _runs(sorted_keys):
-    """(start, stop) of each run of equal values in a sorted array."""
-    edges = np.flatnonzero(np.diff(sorted_keys)) + 1
-    bounds = np.r_[0, edges, len(sorted_keys)]
-    return zip(bounds[:-1], bounds[1:])
+def _column_ids(keys: np.ndarray) -> np.ndarray:
+    """One integer per row of ``keys`` (a particle's column indices), ordered as the rows are
+    lexicographically: the rows flattened over their ranges, which sorts 13 million particles in a second
+    where np.unique(axis=0) takes half a minute; np.unique's inverse where the ranges would overflow."""
+    lo = keys.min(axis=0)
+    span = keys.max(axis=0) - lo + 1
+    if float(np.prod(span.astype(float))) >= 2.0 ** 62:
+        return np.unique(keys, axis=0, return_inverse=True)[1].ravel()
+    col = np.zeros(len(keys), np.int64)
+    for a in range(keys.shape[1]):
+        col = col * span[a] + (keys[:, a] - lo[a])
+    return col
+
 
 
 def assemble(loaded: LoadedCase) -> Scene:

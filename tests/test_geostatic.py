@@ -68,3 +68,18 @@ def test_geostatic_column_stays_at_rest(shape, bound):
     assert peaks["geostatic"] < bound * static, peaks
     # sudden gravity: dynamic settlement peaks near twice the static one
     assert 1.6 * static < peaks["none"] < 2.4 * static, (peaks, static)
+
+
+@pytest.mark.parametrize("scale", [10, 2**40])
+def test_column_ids_sort_like_unique_rows(scale):
+    """assemble._column_ids, the fast replacement of np.unique(keys, axis=0) that bins particles into
+    columns for the overburden, gives the same partition in the same order as np.unique's inverse: on
+    random negative and positive column indices, and past int64 (a span of 2^40 per axis, the fallback)."""
+    from geompm.assemble import _column_ids
+
+    rng = np.random.default_rng(3)
+    keys = rng.integers(-scale, scale, size=(5000, 3))
+    keys[::7] = keys[1::7][: len(keys[::7])]  # shared columns
+    ids = _column_ids(keys)
+    expected = np.unique(keys, axis=0, return_inverse=True)[1].ravel()
+    assert np.array_equal(np.unique(ids, return_inverse=True)[1].ravel(), expected)
