@@ -124,7 +124,6 @@ def _column_ids(keys: np.ndarray) -> np.ndarray:
     return col
 
 
-
 def assemble(loaded: LoadedCase) -> Scene:
     case = loaded.case
     dim = case.dimension

@@ -39,25 +39,12 @@ def add_parser(sub) -> None:
     p.set_defaults(func=cmd_cuda_check)
 
 
-def _simulated() -> bool:
-    return os.environ.get("NUMBA_ENABLE_CUDASIM", "0") not in ("", "0")
-
-
-def _nvvm_missing() -> str | None:
-    try:
-        from cuda.pathfinder import load_nvidia_dynamic_lib
-
-        for lib in ("nvvm", "nvrtc"):
-            load_nvidia_dynamic_lib(lib)
-    except Exception as exc:  # numba-cuda or the CUDA compiler libraries are not installed
-        return f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}"
-    return None
-
-
 def cmd_cuda_check(args) -> int:
+    from .backend.cuda_loops import simulated
+    from .backend.cuda_ptx import nvvm_missing
     from .schema import load_case
 
-    if _simulated():
+    if simulated():
         raise CaseError([("--", "unset NUMBA_ENABLE_CUDASIM: compiling needs numba-cuda's compiler, not its "
                                "simulator (the recording step turns the simulator on by itself)")])
     try:
@@ -68,7 +55,7 @@ def cmd_cuda_check(args) -> int:
     if args.steps < 1:
         raise CaseError([("--steps", "must be at least 1")])
     load_case(args.case, args.set)  # the case's own errors, before any work
-    missing = _nvvm_missing()
+    missing = nvvm_missing()
     if missing:
         raise CaseError([("--", f"numba-cuda's compiler libraries (NVVM, NVRTC) are not found ({missing}); "
                                "install them with pip install 'geompm[cuda]'")])

@@ -44,7 +44,9 @@ def main(argv=None) -> int:
     ap.add_argument("--cc", default="9.0", help="compute capability, MAJOR.MINOR (9.0: H100, H200)")
     ap.add_argument("--part", default="1/1", metavar="K/N", help="compile every N-th kernel from the K-th")
     a = ap.parse_args(argv)
-    if os.environ.get("NUMBA_ENABLE_CUDASIM", "0") not in ("", "0"):
+    from geompm.backend.cuda_loops import simulated
+
+    if simulated():
         ap.error("compiling needs numba-cuda's compiler, not its simulator: unset NUMBA_ENABLE_CUDASIM")
     cc = tuple(int(v) for v in a.cc.split("."))
     with tempfile.TemporaryDirectory(prefix="geompm-ptx-") as tmp:

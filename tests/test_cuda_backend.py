@@ -130,14 +130,9 @@ def test_cuda_backend_matches_the_cpu_on_every_law_and_stage_under_the_simulator
 
 
 def has_nvvm() -> bool:
-    try:
-        from cuda.pathfinder import load_nvidia_dynamic_lib
+    from geompm.backend.cuda_ptx import nvvm_missing
 
-        load_nvidia_dynamic_lib("nvvm")
-        load_nvidia_dynamic_lib("nvrtc")
-        return True
-    except Exception:  # no cuda-pathfinder or no NVVM/NVRTC: nothing to compile with
-        return False
+    return nvvm_missing() is None
 
 
 def cuda_functions() -> dict:

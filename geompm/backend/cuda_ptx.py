@@ -149,6 +149,18 @@ def kernel_label(ref: dict) -> str:
     return ref["kind"] + ":" + ",".join(r[0].rsplit(".", 1)[-1] + "." + r[1] for r in ref["functions"].values())
 
 
+def nvvm_missing() -> str | None:
+    """Why numba-cuda could not compile here (NVVM or NVRTC not found), or None."""
+    try:
+        from cuda.pathfinder import load_nvidia_dynamic_lib
+
+        for lib in ("nvvm", "nvrtc"):
+            load_nvidia_dynamic_lib(lib)
+    except Exception as exc:  # numba-cuda or the CUDA compiler libraries are not installed
+        return f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}"
+    return None
+
+
 def find_ptxas() -> str | None:
     """The ptxas of the toolkit wheels NVVM comes from (the same PTX version), else the one on PATH."""
     try:

@@ -273,11 +273,12 @@ def _backend_problem(case: Case) -> str | None:
     if case.solver.backend != "cuda":
         return None
     import importlib.util
-    import os
 
     if importlib.util.find_spec("numba_cuda") is None:
         return "needs numba-cuda, which is not installed: pip install 'geompm[cuda]'"
-    if os.environ.get("NUMBA_ENABLE_CUDASIM", "0") not in ("", "0"):
+    from ..backend.cuda_loops import simulated
+
+    if simulated():
         return None
     from numba import cuda
 
