@@ -1,7 +1,8 @@
 """Atomic file writes: write a temporary file beside the target, fsync, rename.
 
 A reader (or a crash) never sees a half-written file: it finds the old
-content or the new one.
+content or the new one.  The file ends with the mode the user's umask gives
+a new file (0o644 under umask 022), not mkstemp's private 0o600.
 """
 
 from __future__ import annotations
@@ -12,6 +13,14 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from .ownership import register_made, remove_file
+
+
+def user_mode(executable: bool = False) -> int:
+    """The mode a new file gets under the process's umask: 0o666 (0o777 for an executable) less the
+    umask, as open() and mkdir() would give it (0o644 under umask 022)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return (0o777 if executable else 0o666) & ~mask
 
 
 @contextmanager
@@ -26,6 +35,7 @@ def atomic_path(target: str | Path, suffix: str = ""):
         yield Path(tmp)
         with open(tmp, "rb") as fh:
             os.fsync(fh.fileno())
+        os.chmod(tmp, user_mode())  # mkstemp made it 0600: a colleague must be able to read the results
         os.replace(tmp, target)
         register_made(target)
     finally:

@@ -45,6 +45,43 @@ def available_memory() -> int | None:
         return None
 
 
+#: environment variable that caps the memory a case may plan for, e.g. "2G", "500M" or bytes; the default is
+#: the memory the OS says is available (MemAvailable)
+MEMORY_ENV = "GEOMPM_MAX_MEMORY"
+_UNITS = {"": 1, "K": 2**10, "M": 2**20, "G": 2**30, "T": 2**40}
+
+
+def memory_cap() -> tuple[int | None, str]:
+    """(bytes one case may plan for, where that figure comes from): GEOMPM_MAX_MEMORY if set and below
+    the available memory, else the available memory; None if neither is known."""
+    from .errors import CaseError
+
+    have = available_memory()
+    text = os.environ.get(MEMORY_ENV, "").strip().upper().removesuffix("B").removesuffix("I")
+    if not text:
+        return have, "available"
+    try:
+        unit = text[-1] if text[-1] in _UNITS else ""
+        cap = int(float(text[:len(text) - len(unit)]) * _UNITS[unit])
+    except (ValueError, IndexError):
+        raise CaseError([(MEMORY_ENV, f"'{os.environ[MEMORY_ENV]}' is not a size; give bytes or a number with "
+                                      "K, M, G or T, e.g. 2G")]) from None
+    if have is not None and have < cap:
+        return have, "available"
+    return cap, f"the {MEMORY_ENV} cap"
+
+
+def require_memory(nbytes: float, json_path: str, what: str, remedy: str) -> None:
+    """Refuse (CaseError, exit 2) an allocation sized from the case before it is made, when it would need
+    more than memory_cap(): the JSON path, the gigabytes, and what to change."""
+    from .errors import CaseError
+
+    cap, source = memory_cap()
+    if cap is not None and nbytes > cap:
+        raise CaseError([(json_path, f"{what} would need {nbytes / 2**30:.3g} GiB, more than the "
+                                     f"{cap / 2**30:.3g} GiB {source}; {remedy}")])
+
+
 def peak_rss() -> int:
     """Peak resident memory of this process so far [bytes] (Linux reports ru_maxrss in KiB)."""
     import resource

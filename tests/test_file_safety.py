@@ -207,3 +207,26 @@ def test_resume_of_a_moved_run_folder_takes_it_over(user_tree):
                  "--quiet"]) == 0
     assert owned_kind(root / "moved") == "run"
     assert json.loads((root / "moved" / MARKER).read_text())["adopted"] is True
+
+
+@pytest.mark.parametrize("umask, mode", [(0o022, 0o644), (0o077, 0o600), (0o002, 0o664)])
+def test_files_get_the_users_umask(tmp_path, monkeypatch, umask, mode):
+    """Every file a run writes (case.json, status.json, series.csv, VTU, PVD, HDF5, checkpoints, the folder
+    marker) has the mode a new file gets under the user's umask (0o666 less the umask), still written
+    atomically: mkstemp's private 0o600 made the results unreadable to colleagues under umask 022."""
+    monkeypatch.chdir(tmp_path)
+    case = tmp_path / "tiny.json"
+    case.write_text(json.dumps(tiny_case(outputs=[{"writer": "vtu", "interval": 0.01},
+                                                  {"writer": "hdf5", "interval": 0.01}],
+                                         run={"checkpoint_interval": 0.01})))
+    old = os.umask(umask)
+    try:
+        assert main(["run", str(case), "--quiet", "--out", "out"]) == 0
+    finally:
+        os.umask(old)
+    files = [p for p in (tmp_path / "out").rglob("*") if p.is_file()]
+    names = {p.name for p in files}
+    assert {"case.json", "status.json", "series.csv", "particles.pvd", "results.h5"} <= names
+    assert any(p.suffix == ".vtu" for p in files) and any("checkpoints" in p.parts for p in files)
+    modes = {str(p.relative_to(tmp_path)): oct(p.stat().st_mode & 0o777) for p in files}
+    assert all(m == oct(mode) for m in modes.values()), modes

@@ -48,6 +48,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+from ..fileio import user_mode
+
 HEADER = "# geompm generated kernel loop: do not edit (geompm/backend/codegen.py)\n"
 
 _CACHE: dict = {}
@@ -125,6 +127,7 @@ def write_if_changed(path: Path, text: str) -> None:
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".loop-", suffix=".py")
     with os.fdopen(fd, "w") as f:
         f.write(text)
+    os.chmod(tmp, user_mode())
     os.replace(tmp, path)  # our own temporary file onto our own loop file
 
 

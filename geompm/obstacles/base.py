@@ -23,10 +23,11 @@ from pydantic import Field
 
 from ..errors import CaseError
 from ..plugin import Params, vector_length_problems
+from ..resources import require_memory
 from .contact_force import FACES_GRID, OBSTACLE, contact_and_record, record_on_face
-from .guard import guard_rule, guard_spacing, lattice_points
+from .guard import guard_rule, guard_spacing
 from .recorded import ContactForceStage
-from .sdf_field import face_lattice_ids, interp_field, sdf_lattice
+from .sdf_field import face_lattice_ids, interp_field, lattice_bytes_per_point, lattice_size, sdf_lattice
 
 O = OBSTACLE
 
@@ -65,7 +66,9 @@ def obstacle_node_rule(prm, field, dt, x, m, v, v_old, f, work, out):
         record_on_face(field, prm, work, base, frac, fo, d, FACES_GRID, out)
 
 
-GUARD_POINTS_MAX = 2e7  # lattice points of one obstacle's guard field (4 doubles each in 3D: 640 MB)
+#: lattice points of one obstacle's guard field (8 doubles each in 3D with the face ids: 1.3 GB); the spacing
+#: coarsens towards half the thinnest part to fit, and an obstacle that needs more is refused
+GUARD_POINTS_MAX = 2e7
 
 
 class RigidObstacle(ContactForceStage):
@@ -106,12 +109,9 @@ class RigidObstacle(ContactForceStage):
             raise CaseError([(self.json_path, f"obstacle '{self.label}' lies outside the grid "
                                               f"({lo} .. {hi} m against {scene.grid.origin} .. {scene.grid.upper} m)")])
         h = scene.grid.h
-        self.field, self.lat_origin, self.lat_shape = sdf_lattice(self.signed_distance, lo, hi, h)
         self.thickness = self.thinnest()
-        self.guard_h = guard_spacing(h, self.thickness)
-        # the guard lattice reaches h + 2 hs beyond the obstacle: any segment that can touch it (|v| dt < h)
-        while lattice_points(lo, hi, self.guard_h, h + 2 * self.guard_h) > GUARD_POINTS_MAX:
-            self.guard_h *= 1.25
+        self.guard_h = self._guard_spacing(lo, hi, h)
+        self.field, self.lat_origin, self.lat_shape = sdf_lattice(self.signed_distance, lo, hi, h)
         self.guard_field, self.guard_origin, self.guard_shape = sdf_lattice(
             self.signed_distance, lo - h, hi + h, self.guard_h)
         if self.params.velocity is not None:
@@ -121,6 +121,37 @@ class RigidObstacle(ContactForceStage):
             self._spread_on_faces(h)
         self.grid_prm = self._pack(self.lat_origin, self.lat_shape, h)
         self.guard_prm = self._pack(self.guard_origin, self.guard_shape, self.guard_h)
+
+    def _guard_spacing(self, lo, hi, h) -> float:
+        """The guard lattice's spacing (guard.guard_spacing), coarsened by 1.25 at a time while the lattice
+        exceeds GUARD_POINTS_MAX points and the spacing stays below half the thinnest part; both lattices'
+        memory checked against resources.memory_cap() before either is built (CaseError, exit 2)."""
+        d = self.dim
+        size = float(np.max(hi - lo))
+        per_point = lattice_bytes_per_point(d)
+        contact = lattice_size(lo, hi, h)
+        require_memory(contact * per_point, self.json_path,
+                       f"obstacle '{self.label}' ({size:.3g} m across) sampled every cell (h = {h:g} m): its "
+                       f"contact lattice of {contact:.3g} points",
+                       "check the obstacle's unit (scale) and size, or use a coarser grid.cell_size")
+        hs = guard_spacing(h, self.thickness)
+        coarsest = np.inf if self.thickness is None else 0.5 * self.thickness
+        while lattice_size(lo - h, hi + h, hs) > GUARD_POINTS_MAX and hs * 1.25 <= coarsest:
+            hs *= 1.25
+        points = lattice_size(lo - h, hi + h, hs)
+        thin = "" if self.thickness is None else f", {self.thickness:.3g} m thick at its thinnest"
+        remedy = ("thicken the obstacle's thinnest part (or check its unit: scale), or use a coarser "
+                  "grid.cell_size; the guard samples an obstacle at h / 4 and at a third of its thinnest part")
+        if points > GUARD_POINTS_MAX:
+            raise CaseError([(self.json_path, f"obstacle '{self.label}' ({size:.3g} m across{thin}) needs a "
+                                              f"penetration-guard lattice of {points:.3g} points at spacing "
+                                              f"{hs:.3g} m, more than {GUARD_POINTS_MAX:.3g} "
+                                              f"({points * per_point / 2**30:.3g} GiB); {remedy}")])
+        kept = contact * 8 * (1 + d + 2 ** (d - 1))
+        require_memory(kept + points * per_point, self.json_path,
+                       f"obstacle '{self.label}' ({size:.3g} m across{thin}): its penetration-guard lattice of "
+                       f"{points:.3g} points at spacing {hs:.3g} m", remedy)
+        return hs
 
     def _spread_on_faces(self, h):
         """Face ids on both lattices (sdf_field.face_lattice_ids): every contact node (phi <= contact_layer;

@@ -139,6 +139,3 @@ def guard_spacing(h: float, thinnest: float | None) -> float:
         hs = min(hs, thinnest / 3.0)
     return hs
 
-
-def lattice_points(lo, hi, hs, pad) -> int:
-    return int(np.prod(np.ceil((np.asarray(hi) - np.asarray(lo) + 2 * pad) / hs) + 1))

@@ -4,7 +4,7 @@ The mesh is scaled, rotated (``rotate``: degrees about x, then y, then z) and
 translated, in that order, into the case's frame [m].  It must be watertight
 (a closed surface): the signed distance and the inside/outside test need it.
 Open surfaces (``thin``) are not supported: close the mesh in your CAD tool
-(or give the wall a thickness).  Signed distance from trimesh.proximity.
+(or give the wall a thickness).  Signed distance from libigl (geometry.mesh_signed_distance).
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from pydantic import Field
 
 from ..errors import CaseError
 from ..fileio import case_relative, unreadable_file
-from ..geometry import load_surface_mesh
+from ..geometry import load_surface_mesh, mesh_signed_distance, mesh_size_problem
 from .base import ObstacleParams, RigidObstacle
 
 
@@ -51,6 +51,10 @@ class RigidMesh(RigidObstacle):
                 axis = np.eye(3)[k]
                 mesh.apply_transform(trimesh.transformations.rotation_matrix(np.radians(deg), axis))
         mesh.apply_translation(np.asarray(self.params.translate, float))
+        problem = mesh_size_problem(mesh, scene.grid.origin, scene.grid.upper, scene.grid.h, where,
+                                    self.params.scale)
+        if problem:
+            raise CaseError([(f"{self.json_path}.scale", problem)])
         self.mesh = mesh
         super().setup(scene)
 
@@ -64,21 +68,11 @@ class RigidMesh(RigidObstacle):
         return np.asarray(lo, float), np.asarray(hi, float)
 
     def thinnest(self):
-        """The mesh's thinnest part: from each face centre a ray into the solid (against the outward normal)
-        to the next face; the smallest such chord [m].  Exact for prisms and plates whose faces are parallel."""
-        from trimesh.ray.ray_triangle import RayMeshIntersector
+        """The mesh's thinnest part [m]: the shortest chord from a face's centre into the solid along its
+        inward normal (obstacles/thickness.py)."""
+        from .thickness import thinnest_part
 
-        m = self.mesh
-        eps = 1e-9 * float(m.scale)
-        origins = m.triangles_center - eps * m.face_normals
-        _, rays, hits = RayMeshIntersector(m).intersects_id(origins, -m.face_normals, multiple_hits=False,
-                                                              return_locations=True)
-        if len(rays) == 0:
-            return None
-        chords = np.linalg.norm(hits - origins[rays], axis=1)
-        return float(chords.min()) if len(chords) else None
+        return thinnest_part(self.mesh.vertices, self.mesh.faces, self.mesh.face_normals)
 
     def signed_distance(self, pts):
-        import trimesh
-
-        return -trimesh.proximity.signed_distance(self.mesh, pts)  # trimesh: positive inside
+        return mesh_signed_distance(self.mesh, pts)

@@ -123,13 +123,39 @@ def face_lattice_ids(field: np.ndarray, lo, shape, h: float, surface, reach: flo
     return np.ascontiguousarray(np.column_stack([field[:, :d + 1], ids]))
 
 
-def sdf_lattice(sdf_fn, lo, hi, h):
-    """Signed distance (positive outside) and its gradient on a lattice covering [lo, hi] + 2 cells."""
+#: points whose signed distance is computed at once: bounds the sampling's transient memory
+SAMPLE_CHUNK = 500_000
+
+
+def lattice_bytes_per_point(d: int) -> int:
+    """Peak bytes per lattice point while a field is built: coordinates and gradients (d each), phi, the
+    stacked field (1 + d) and its copy with face ids (1 + d + 2^(d-1)), in float64."""
+    return 8 * (d + d + 1 + 2 * (1 + d) + 2 ** (d - 1))
+
+
+def lattice_extent(lo, hi, h):
+    """(first point, points per axis) of the lattice sdf_lattice samples over [lo, hi] + 2 spacings."""
     lo = np.asarray(lo, float) - 2 * h
     hi = np.asarray(hi, float) + 2 * h
-    shape = np.ceil((hi - lo) / h).astype(np.int64) + 1
+    return lo, np.ceil((hi - lo) / h).astype(np.int64) + 1
+
+
+def lattice_size(lo, hi, h) -> float:
+    """Points of that lattice, as a float (no overflow for absurd sizes): checked before it is built."""
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    return float(np.prod(np.ceil((hi - lo + 4 * h) / h) + 1))
+
+
+def sdf_lattice(sdf_fn, lo, hi, h):
+    """Signed distance (positive outside) and its gradient on a lattice covering [lo, hi] + 2 cells,
+    sampled SAMPLE_CHUNK points at a time."""
+    lo, shape = lattice_extent(lo, hi, h)
     pts = lattice_coords(lo, shape, h)
-    phi = np.asarray(sdf_fn(pts), dtype=float).reshape(tuple(shape))
+    phi = np.empty(len(pts))
+    for a in range(0, len(pts), SAMPLE_CHUNK):
+        phi[a:a + SAMPLE_CHUNK] = np.asarray(sdf_fn(pts[a:a + SAMPLE_CHUNK]), dtype=float).ravel()
+    del pts
+    phi = phi.reshape(tuple(shape))
     grads = np.gradient(phi, h)
     grads = grads if isinstance(grads, (list, tuple)) else [grads]
     field = np.stack([phi] + list(grads), axis=-1).reshape(-1, len(lo) + 1)

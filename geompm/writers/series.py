@@ -99,7 +99,7 @@ class SeriesWriter(Writer):
     def open(self, run_dir, sim):
         self._setup(run_dir, sim)
         self.columns = list(self._row(sim))
-        self.fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_APPEND, 0o644)
+        self.fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_APPEND, 0o666)  # less the umask
         os.write(self.fd, (",".join(self.columns) + "\n").encode())
 
     def state(self):
