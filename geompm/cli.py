@@ -44,7 +44,11 @@ def _load(args):
     from .schema import load_case
 
     loaded = load_case(args.case, getattr(args, "set", None) or [])
-    return loaded, assemble(loaded)
+    try:
+        return loaded, assemble(loaded)
+    except CaseError as exc:
+        exc.warnings = exc.warnings or loaded.warnings
+        raise
 
 
 def _estimate(scene) -> tuple[float, int, float]:
@@ -58,7 +62,12 @@ def _estimate(scene) -> tuple[float, int, float]:
 
 
 def cmd_validate(args) -> int:
+    from .assemble import fixed_step_problem
+
     loaded, scene = _load(args)
+    problem = fixed_step_problem(scene)
+    if problem:
+        raise CaseError([problem], warnings=loaded.warnings)
     mem, nodes, dt = _estimate(scene)
     cells = int(scene.grid.ncells.prod())
     print(f"case '{scene.name}' is valid: {scene.dim}D, {scene.state.n} particles, "
@@ -209,6 +218,7 @@ class _StopOnSignal:
 
 
 def cmd_run(args) -> int:
+    from .assemble import fixed_step_problem as _fixed_step_problem
     from .engine.runner import Interrupted, Runner
     from .engine.scheduler import Simulation
     from .writers.series import SeriesWriter
@@ -237,6 +247,9 @@ def cmd_run(args) -> int:
                  f"~{mem / 2**20:.0f} MiB -> {run_dir}")
         _viscous_warning(loaded, scene, log.warning)
         _stage_warnings(scene, log.warning, loaded)
+        problem = _fixed_step_problem(scene)
+        if problem:  # validate refuses it; a run goes on, so that a stability experiment can see the blow-up
+            log.warning(f"warning: {problem[0]}: {problem[1]} (geompm validate refuses this case)")
     summary = None
     try:
         with _StopOnSignal(runner) as stopper:
@@ -432,6 +445,8 @@ def main(argv=None) -> int:
         print("error: refused:" if refused else "error: the case is not valid:", file=sys.stderr)
         for path, msg in exc.problems:
             print(f"  {_one_line(path) or '<case>'}: {_one_line(msg)}", file=sys.stderr)
+        for path, msg in exc.warnings:
+            print(f"warning: {path}: {msg}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("interrupted; output written so far is kept", file=sys.stderr)

@@ -11,8 +11,11 @@ from __future__ import annotations
 class CaseError(Exception):
     """A case (JSON file) that cannot be run; ``problems`` is [(path, message)]."""
 
-    def __init__(self, problems: list[tuple[str, str]]):
+    def __init__(self, problems: list[tuple[str, str]], warnings: list[tuple[str, str]] | None = None):
         self.problems = list(problems)
+        #: (path, message) warnings found before the refusal (values that look like a wrong unit): a
+        #: refusal caused by such a value is explained by them, so the CLI prints them with the errors
+        self.warnings = list(warnings or [])
         super().__init__(self.format())
 
     def format(self) -> str:

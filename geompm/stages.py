@@ -82,6 +82,12 @@ class Stage(Plugin):
         or None for a stage without one (damping, periodic)."""
         return None
 
+    def solid_depth(self, pts):
+        """Depth [m] of points (n, d) inside the stage's rigid solid at t = 0 (positive inside, negative
+        outside), or None for a stage that occupies no space: set-up refuses a body that starts inside
+        (assemble.py)."""
+        return None
+
     def surface_shift(self, time: float):
         """Displacement [m] of the surface at ``time`` (a prescribed velocity), or None if it does not move."""
         return None

@@ -102,14 +102,15 @@ def test_validate_warns_about_a_plate_thinner_than_two_cells(tmp_path, capsys):
 
 def test_mesh_thickness_of_the_check_dam():
     """The STL check dam is two closed blocks 0.1 m x 0.7 m x 0.2 m (cases/meshes/make_check_dam.py): its
-    thinnest chord is the 0.1 m block thickness, found by casting rays inward from every face."""
+    thinnest chord is the 0.1 m block thickness, found by casting rays inward from every face.  The STL holds
+    float32 coordinates: +-0.05 m is +-0.0500000007 m, so the faces are 0.1000000015 m apart."""
     from geompm.api import scene_from_file
 
     from .conftest import CASES
 
     scene = scene_from_file(CASES / "debris_obstacle.json", ["grid.cell_size=0.1"])
     dam = scene.obstacles[0]
-    assert dam.thinnest() == pytest.approx(0.1, abs=1e-9)
+    assert dam.thinnest() == pytest.approx(float(np.float32(0.05)) * 2, abs=1e-12)
     assert "1.00 cells" in dam.warnings()[0]  # 0.1 m = one cell at h = 0.1
     scene = scene_from_file(CASES / "debris_obstacle.json", ["grid.cell_size=0.07"])
     assert "1.43 cells" in scene.obstacles[0].warnings()[0]

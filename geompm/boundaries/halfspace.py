@@ -73,6 +73,10 @@ class HalfSpace(GridStage, ParticleStage):
     def setup(self, scene):
         self.grid = scene.grid
 
+    def solid_depth(self, pts):
+        """Depth behind the surface, -(x - point) . n (n points into the material)."""
+        return -(np.asarray(pts) - np.asarray(self.point)) @ np.asarray(self.normal)
+
     def surface(self):
         """The plane clipped to the grid's box (a segment in 2D)."""
         from ..obstacles.tessellate import plane_surface

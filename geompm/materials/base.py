@@ -37,6 +37,7 @@ from pydantic import Field
 
 from ..plugin import Params, Plugin
 from ..layout import pack_in_layout, param_layout
+from .plausible import DENSITY, warnings_for
 
 
 class MaterialParams(Params):
@@ -56,6 +57,8 @@ class Material(Plugin):
     backends: ClassVar[tuple[str, ...]] = ("cpu",)
     #: names of the packed parameters (layout.py)
     layout: ClassVar = param_layout("density")
+    #: parameter ranges outside which a value looks like a wrong unit (plausible.py): warned, never refused
+    plausible: ClassVar[tuple] = (DENSITY,)
     #: the per-particle @njit functions (module docstring)
     particle_stress: ClassVar = None
     particle_wave_speed: ClassVar = None
@@ -94,6 +97,11 @@ class Material(Plugin):
         """What `geompm validate` and `geompm run` should warn about this law's parameters, each a
         full sentence (the caller names the material's JSON path)."""
         return []
+
+    def plausibility_warnings(self) -> list[str]:
+        """A sentence for each parameter outside the range the law declares (``plausible``), starting with
+        the parameter's name (the caller adds the material's JSON path)."""
+        return warnings_for(self.plausible, self.params)
 
     # -- used by the engine ------------------------------------------------------------
     @property

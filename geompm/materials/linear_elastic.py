@@ -17,6 +17,7 @@ from numba import njit
 from pydantic import Field
 
 from .base import Material, MaterialParams
+from .plausible import DENSITY, YOUNGS_MODULUS
 from .plasticity import ELASTIC, current_moduli, kirchhoff_trial, elastic_wave_speed
 
 
@@ -39,6 +40,7 @@ class LinearElastic(Material):
     backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda_parity.py); compiles for sm_90 (tests/cuda_compile.py)
     description = "Isotropic linear elasticity (Hooke) in rate form with the Jaumann stress rate"
     Params = LinearElasticParams
+    plausible = (DENSITY, YOUNGS_MODULUS)
     layout = ELASTIC
     particle_stress = elastic_stress
     particle_wave_speed = elastic_wave_speed

@@ -16,6 +16,7 @@ from pydantic import Field
 
 from ..kernels.voigt import jaumann_increment
 from .base import Material, MaterialParams
+from .plausible import COHESION, DENSITY, YOUNGS_MODULUS, angle
 from ..layout import param_layout
 
 #: the first slots of every law with an isotropic elastic part: rho0 [kg/m3], Lame lambda and G [Pa]
@@ -125,6 +126,8 @@ def elastic_wave_speed(prm, rho):
 
 class FrictionalMaterial(Material):
     """Base of the Mohr-Coulomb-type soil laws (ElastoplasticParams)."""
+
+    plausible = (DENSITY, YOUNGS_MODULUS, angle("friction_angle"), COHESION)
 
     particle_wave_speed = elastic_wave_speed
 

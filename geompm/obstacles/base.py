@@ -102,6 +102,9 @@ class RigidObstacle(ContactForceStage):
         """Thickness of the obstacle's thinnest part [m], or None if unknown."""
         return None
 
+    def solid_depth(self, pts):
+        return -self.signed_distance(pts)
+
     def setup(self, scene):
         self.start_recording(scene)
         lo, hi = self.bounds()

@@ -229,6 +229,10 @@ class Terrain(ContactForceStage):
         nx, ny = d.z.shape
         return heightfield_surface(d.x0 + d.dx * np.arange(nx), d.y0 + d.dy * np.arange(ny), d.z)
 
+    def solid_depth(self, pts):
+        """Depth below the ground, H(x, y) - z (the bilinear DEM the contact uses)."""
+        return self.dem.height(pts[:, 0], pts[:, 1]) - pts[:, 2]
+
     def grid_args(self, dt, time, remap):
         return self.prm, self.dem.z
 

@@ -359,11 +359,24 @@ def _parse_valid_numbers(raw: dict, base_dir: Path) -> LoadedCase:
     loaded = LoadedCase(case=case, base_dir=base_dir, raw=raw, warnings=ineffective_settings(raw, case))
     _plugin_pass(raw, case, loaded, problems)
     problems.extend(duplicate_labels(loaded))
+    loaded.warnings.extend(plausibility_warnings(loaded))
     if not problems:
         _check_memory(case, problems)
     if problems:
-        raise CaseError(problems)
+        raise CaseError(problems, warnings=loaded.warnings)
     return loaded
+
+
+def plausibility_warnings(loaded) -> list[tuple[str, str]]:
+    """(JSON path, sentence) for every material parameter outside the range its law declares plausible
+    (materials/plausible.py): a value that is valid but looks like a wrong unit."""
+    out = []
+    for name, r in loaded.materials.items():
+        for p in getattr(r.cls, "plausible", ()):
+            text = p.check(getattr(r.params, p.field, None))
+            if text is not None:
+                out.append((f"materials.{name}.{p.field}", text))
+    return out
 
 
 def ineffective_settings(raw: dict, case: Case) -> list[tuple[str, str]]:

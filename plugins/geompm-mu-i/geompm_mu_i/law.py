@@ -28,6 +28,7 @@ from numba import njit
 from pydantic import Field, model_validator
 
 from geompm.materials.base import Material, MaterialParams
+from geompm.materials.plausible import DENSITY, YOUNGS_MODULUS, Plausible
 from geompm.materials.fluid import shear_rate
 from geompm.layout import param_layout
 from geompm.materials.plasticity import (ELASTIC, current_moduli, kirchhoff_trial, elastic_wave_speed,
@@ -87,8 +88,16 @@ def mu_i_stress(prm, dt, L, rho, s, state):
     set_scaled_deviator(s, tr, mean, scale, mean)
 
 
+#: a grain diameter above 0.1 m is a boulder: mu(I) is calibrated on sand and beads given in metres
+GRAIN_DIAMETER = Plausible("grain_diameter", high=0.1,
+                           hint=lambda v: f"above 0.1 m: was it given in mm? ({v:g} mm is {v / 1000:g} m)")
+GRAIN_DENSITY = Plausible("grain_density", low=500.0,
+                          hint=lambda v: f"below 500 kg/m3: was it given in t/m3? ({v:g} t/m3 is {v * 1000:g} kg/m3)")
+
+
 class MuI(Material):
     name = "mu_i"
+    plausible = (DENSITY, YOUNGS_MODULUS, GRAIN_DIAMETER, GRAIN_DENSITY)
     backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator, compiles for sm_90 (geompm's tests/cuda_parity.py, cuda_compile.py)
     description = "mu(I) granular rheology (Jop, Forterre & Pouliquen 2006), elastoplastic form"
     Params = MuIParams
