@@ -51,6 +51,7 @@ class Scene:
     obstacles: list = field(default_factory=list)
     damping: list = field(default_factory=list)
     writers: list = field(default_factory=list)
+    body_materials: list = field(default_factory=list)  # the material name of each body, in case order
     crs: str | None = None  # the case's coordinate reference system ("EPSG:2056"), if it states one
     case_text: str = ""  # the case as JSON, for provenance only (the HDF5 file's attribute); never parsed
 
@@ -195,7 +196,7 @@ def assemble(loaded: LoadedCase) -> Scene:
         musl=case.solver.update == "musl",
         apic_dinv=(1.0 / (APIC_D_FACTOR[kind] * h * h)) if APIC_D_FACTOR[kind] > 0 else 0.0,
         nu_max=max((m.kinematic_viscosity() for m in materials), default=0.0),
-        case_text=json.dumps(loaded.raw), crs=case.crs,
+        case_text=json.dumps(loaded.raw), crs=case.crs, body_materials=[b.material for b in case.bodies],
         base_dir=loaded.base_dir,
     )
     for r, spec in zip(loaded.outputs, loaded.case.outputs):  # first: a stage asks what they need (face forces)

@@ -321,7 +321,7 @@ def cmd_info(args) -> int:
                 print(f"hot spot     {name}: face pressure {o['peak_pressure']:.4g} Pa at ({at}) m, "
                       f"t = {o['peak_pressure_time']:.4g} s")
     print(f"simulated    t = {float(last['time']):.6g} s of {case['time']['end']:g} s, {last['step']} steps")
-    print(f"runout       front x = {float(last['front_x']):.3f} m at the last series row")
+    _print_runout(run_dir, case)
     outs = [name for name, present in (("VTU/PVD", (run_dir / "particles.pvd").is_file()),
                                        ("surfaces", (run_dir / "surfaces.pvd").is_file()),
                                        ("HDF5", (run_dir / "results.h5").is_file())) if present]
@@ -336,6 +336,27 @@ def cmd_info(args) -> int:
             print(f"travel       runout {m['runout_length_m']:.4g} m, drop H = {m['drop_height_m']:.4g} m, "
                   f"H/L = {m['drop_height_m'] / m['runout_length_m']:.3f} (travel angle {m['travel_angle_deg']:.3g} deg)")
     return 0
+
+
+def _print_runout(run_dir: Path, case: dict) -> None:
+    """The runout at the last series row: each body's front (and each material's) with where it started;
+    the slide is the body whose front moved furthest, not the ground it rests on."""
+    from .study.metrics import body_fronts, moving_front, read_series
+
+    series = read_series(run_dir / "series.csv")
+    moving = moving_front(series)
+    if moving is None:
+        print(f"runout       front x = {float(series['front_x'][-1]):.3f} m at the last series row")
+        return
+    bodies = case.get("bodies") or []
+    for col, first, last in body_fronts(series):
+        name = col[len("front_x_"):]
+        if name.startswith("body") and name[4:].isdigit() and int(name[4:]) < len(bodies):
+            label = f"bodies.{name[4:]} ({bodies[int(name[4:])].get('material')})"
+        else:
+            label = f"material {name}"
+        mark = "   <- the runout (the front that moved furthest)" if col == moving[0] else ""
+        print(f"runout       {label}: front x = {last:.3f} m (from {first:.3f} m, moved {last - first:+.3f} m){mark}")
 
 
 def cmd_plot(args) -> int:

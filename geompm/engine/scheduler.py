@@ -21,8 +21,10 @@ functions that the backend runs (``grid_stage``, ``particle_stage``).
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..backend import make_backend
-from ..kernels.reduce import kinetic_energy, max_coordinate
+from ..kernels.reduce import kinetic_energy, max_coordinate, max_coordinate_by_group
 from ..stages import GridStage, ParticleStage
 
 
@@ -90,6 +92,22 @@ class Simulation:
         be.g2p(view, dt, False, True, True)
         self._end(view, dt)
 
+    def group_fronts(self) -> dict[str, float]:
+        """``front_x_body<b>`` of each body and ``front_x_<material>`` of each material [m] (the largest x of
+        their particles, NaN once all have left), where a scene has more than one of them: the runout of a
+        slide is its own front, not that of the ground it rests on."""
+        st, sc = self.state, self.scene
+        out = {}
+        nbodies = len(sc.body_materials)
+        if nbodies > 1:
+            for b, x in enumerate(max_coordinate_by_group(st.p_x, 0, st.p_body, nbodies)):
+                out[f"front_x_body{b}"] = float(x) if np.isfinite(x) else float("nan")
+        if len(sc.material_names) > 1:
+            fronts = max_coordinate_by_group(st.p_x, 0, st.p_material, len(sc.material_names))
+            for name, x in zip(sc.material_names, fronts):
+                out[f"front_x_{name}"] = float(x) if np.isfinite(x) else float("nan")
+        return out
+
     def series_row(self) -> dict[str, float]:
         """The quantities of one series.csv row at the current state."""
         st = self.state
@@ -100,6 +118,7 @@ class Simulation:
             "kinetic_energy": kinetic_energy(st.p_mass, st.p_v),
             "front_x": max_coordinate(st.p_x, 0),
         }
+        row.update(self.group_fronts())
         for stage in self.grid_stages + self.particle_stages:
             row.update(stage.series())
         return row

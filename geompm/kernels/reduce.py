@@ -82,6 +82,17 @@ def max_coordinate(p_x, axis):
 
 
 @njit(cache=True)
+def max_coordinate_by_group(p_x, axis, p_group, ngroups):
+    """Largest p_x[:, axis] of each group (a body or a material id) [m]; -inf for an empty group."""
+    out = np.full(ngroups, -np.inf)
+    for p in range(p_x.shape[0]):
+        g = p_group[p]
+        if p_x[p, axis] > out[g]:
+            out[g] = p_x[p, axis]
+    return out
+
+
+@njit(cache=True)
 def first_outside(p_x, lo_bound, hi_bound):
     """Index of the first particle outside [lo_bound, hi_bound] (or NaN), else -1."""
     n, d = p_x.shape

@@ -38,7 +38,8 @@ def add_parser(sub) -> None:
     p.add_argument("--samples", type=int, default=16, help="number of draws with --sample (default 16)")
     p.add_argument("--seed", type=int, default=0, help="random seed for --sample (default 0)")
     p.add_argument("--metric", action="append", default=[], metavar="NAME",
-                   help="runout, peak_force, impulse, or a series.csv column (front_x, kinetic_energy, X_star, ...)")
+                   help="runout, runout:body<b> or runout:<material> (cases with several bodies or materials), "
+                        "peak_force, impulse, or a series.csv column (front_x, kinetic_energy, X_star, ...)")
     p.add_argument("--reference", help="'finest' (default with --vary), a run folder, or a CSV with a time column")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="override for every variant")
     p.add_argument("--out", help="study folder (default studies/<case name>)")
@@ -107,9 +108,15 @@ def _metric_names(requested: list[str], series_list) -> tuple[list[str], list[st
     labels = sorted({lab for s in series_list if s is not None for lab in M.obstacle_labels(s)})
     wanted = requested or ["runout", "height", "peak_force", "impulse", *M.SERIES_DEFAULT]
     scalars, columns = [], []
+    fronts = sorted({c[len("front_x_"):] for s in series_list if s is not None
+                     for c in s if c.startswith("front_x_")})
     for name in wanted:
         if name == "runout":
             scalars.append("runout")
+            if not requested:
+                scalars += [f"runout:{f}" for f in fronts]  # each body's and material's, where there are several
+        elif name.startswith("runout:") and name.partition(":")[2] in fronts:
+            scalars.append(name)
         elif name == "height":
             if any(s is not None and "deposit_height" in s for s in series_list):
                 scalars.append("height")

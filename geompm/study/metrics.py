@@ -3,7 +3,11 @@
 Scalar metrics (one number per run):
 - ``runout``: ``deposit_front`` [m] at the last row of series.csv when the
   series writer has ``deposit_threshold`` (a thickness front, robust to
-  outlier particles), else ``front_x`` (the furthest particle);
+  outlier particles); else, with several bodies, the front of the body whose
+  front moved furthest (a slide's toe, not the edge of the ground under it);
+  else ``front_x`` (the furthest particle);
+- ``runout:body<b>``, ``runout:<material>``: the last front of each body and
+  each material, where the case has more than one;
 - ``height``: ``deposit_height`` [m] at the last row (the deposit's largest
   thickness, averaged over a window as wide as the threshold), when written;
 - ``peak_force:LABEL``: the largest |F| [N; N/m in 2D] on obstacle LABEL, taken
@@ -51,11 +55,36 @@ def force_magnitude(series: dict, label: str) -> np.ndarray:
     return np.sqrt(sum(f ** 2 for f in comps))
 
 
+def body_fronts(series: dict) -> list[tuple[str, float, float]]:
+    """(column, first value, last value) of each per-body and per-material front column of series.csv
+    (``front_x_body<b>``, ``front_x_<material>``; written where a case has more than one)."""
+    out = []
+    for col in series:
+        if col.startswith("front_x_") and len(series[col]):
+            x = series[col][np.isfinite(series[col])]
+            if len(x):
+                out.append((col, float(x[0]), float(x[-1])))
+    return out
+
+
+def moving_front(series: dict) -> tuple[str, float, float] | None:
+    """The body front that moved furthest (column, first, last): a slide's toe rather than the edge of
+    the ground it rests on; None with a single body."""
+    bodies = [f for f in body_fronts(series) if f[0].startswith("front_x_body")]
+    return max(bodies, key=lambda f: f[2] - f[1]) if bodies else None
+
+
 def scalar_metrics(series: dict, status: dict | None = None) -> dict[str, float]:
     out = {}
-    front = "deposit_front" if "deposit_front" in series else "front_x"  # the robust front when written
-    if front in series and len(series[front]):
-        out["runout"] = float(series[front][-1])
+    moving = moving_front(series)
+    if "deposit_front" in series and len(series["deposit_front"]):  # the robust front when written
+        out["runout"] = float(series["deposit_front"][-1])
+    elif moving is not None:
+        out["runout"] = moving[2]
+    elif "front_x" in series and len(series["front_x"]):
+        out["runout"] = float(series["front_x"][-1])
+    for col, _, last in body_fronts(series):
+        out[f"runout:{col[len('front_x_'):]}"] = last
     if "deposit_height" in series and len(series["deposit_height"]):
         out["height"] = float(series["deposit_height"][-1])
     peaks = (status or {}).get("obstacles", {})
