@@ -15,7 +15,7 @@ from pathlib import Path
 
 from . import __version__, registry
 from .errors import CaseError, SimulationError
-from .fileio import atomic_write_text
+from .fileio import atomic_write_json, atomic_write_text
 from .ownership import create_folder, mark_folder, marked_kind, may_write, owned_kind, remove_tree
 from .bench.command import add_parser as bench_parser
 from .cuda_check import add_parser as cuda_check_parser
@@ -170,7 +170,7 @@ def _run_folder(args, loaded, scene) -> Path:
                                        "folder geompm made), --out DIR, or --resume to continue it")])
         remove_tree(run_dir, "run", protect=_case_folder(args))
     create_folder(run_dir, "run")
-    atomic_write_text(run_dir / "case.json", json.dumps(loaded.raw, indent=2) + "\n")
+    atomic_write_json(run_dir / "case.json", loaded.raw)
     return run_dir
 
 
@@ -192,7 +192,7 @@ def _write_status(run_dir: Path, scene, runner, summary, finished: bool, reason:
                       for o in scene.obstacles if (pk := o.peak_force()) is not None},
         "geompm": __version__,
     }
-    atomic_write_text(run_dir / "status.json", json.dumps(status, indent=2) + "\n")
+    atomic_write_json(run_dir / "status.json", status)
 
 
 class _StopOnSignal:

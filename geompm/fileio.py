@@ -7,10 +7,14 @@ a new file (0o644 under umask 022), not mkstemp's private 0o600.
 
 from __future__ import annotations
 
+import json
+import math
 import os
 import tempfile
 from contextlib import contextmanager
 from pathlib import Path
+
+import numpy as np
 
 from .ownership import register_made, remove_file
 
@@ -41,6 +45,30 @@ def atomic_path(target: str | Path, suffix: str = ""):
     finally:
         if os.path.exists(tmp):
             remove_file(tmp)
+
+
+def finite_or_none(obj):
+    """``obj`` with every NaN or infinite float (numpy's too) replaced by None, recursively through dicts,
+    lists and tuples: JSON has no NaN, and a strict reader (JavaScript, jq, Go) refuses Python's bare NaN."""
+    if isinstance(obj, dict):
+        return {k: finite_or_none(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [finite_or_none(v) for v in obj]
+    if isinstance(obj, np.generic):
+        obj = obj.item()
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def strict_json(obj, **kwargs) -> str:
+    """JSON text of ``obj`` with NaN and infinities as null (finite_or_none); never a bare NaN."""
+    return json.dumps(finite_or_none(obj), allow_nan=False, **kwargs)
+
+
+def atomic_write_json(target: str | Path, obj, indent: int | None = 2) -> None:
+    """An atomic write of ``obj`` as strict JSON (strict_json) with a final newline."""
+    atomic_write_text(target, strict_json(obj, indent=indent) + "\n")
 
 
 def atomic_write_text(target: str | Path, text: str) -> None:

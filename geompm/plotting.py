@@ -4,7 +4,8 @@
   (<name>_fx, _fy, _fz) and normal force (<name>_fn) over time;
 - ``plot_series(series_csv, png)``: kinetic energy and front position over time;
 - ``plot_deposit(positions, bodies, png)``: particle positions of a 2D run
-  (the deposit profile at the last output), coloured by body;
+  (the deposit profile at the last output), coloured by body and named by
+  material, with the planes and obstacles drawn;
 - ``plot_run(run_dir)``: all of them for ``geompm plot``, with the hazard maps
   (maps_plot.py) and the obstacles' face pressures (pressure_plot.py) when
   the run wrote them.
@@ -48,37 +49,57 @@ def _save(fig, png) -> Path:
     return png
 
 
-def plot_obstacle_forces(series_csv: str | Path, png: str | Path, title: str = "") -> Path:
+def force_unit(dim: int) -> str:
+    """N in 3D; N/m in 2D plane strain (a force per metre of depth)."""
+    return "N" if dim == 3 else "N/m"
+
+
+def plot_obstacle_forces(series_csv: str | Path, png: str | Path, title: str = "", dim: int = 3,
+                         peaks: dict | None = None) -> Path:
+    """Each obstacle's force components and |F| at the series rows; the peak annotated is status.json's
+    (``peaks``: label -> {peak_force, peak_time}), the largest |F| over every step, the figure the
+    terminal, `geompm info` and `geompm study` report; without it the largest |F| of the rows."""
     plt = _pyplot()
     data = _load(series_csv)
     names = obstacle_names(data.dtype.names)
     if not names:
         raise ValueError(f"{series_csv} has no obstacle force columns (<name>_fn)")
+    unit = force_unit(dim)
     fig, ax = plt.subplots(figsize=(7, 4), dpi=120)
     for name in names:
-        for comp in ("fx", "fy", "fz", "fn"):
-            col = f"{name}_{comp}"
-            if col in data.dtype.names:
-                ax.plot(data["time"], data[col], lw=1.8 if comp == "fn" else 1.0,
-                        ls="-" if comp == "fn" else "--", label=col)
-        k = int(np.argmax(data[f"{name}_fn"]))
-        ax.annotate(f"peak {data[f'{name}_fn'][k]:.0f} N at {data['time'][k]:.2f} s",
-                    (data["time"][k], data[f"{name}_fn"][k]), textcoords="offset points", xytext=(12, -14))
+        comps = [c for c in ("fx", "fy", "fz") if f"{name}_{c}" in data.dtype.names]
+        mag = np.sqrt(sum(data[f"{name}_{c}"] ** 2 for c in comps))
+        for c in comps:
+            ax.plot(data["time"], data[f"{name}_{c}"], lw=1.0, ls="--", label=f"{name}_{c}")
+        line = ax.plot(data["time"], mag, lw=1.8, label=f"{name} |F|")[0]
+        peak = (peaks or {}).get(name)
+        if peak is not None:
+            f, t, how = float(peak["peak_force"]), float(peak["peak_time"]), "every step"
+        else:
+            k = int(np.argmax(mag))
+            f, t, how = float(mag[k]), float(data["time"][k]), "series rows"
+        ax.plot([t], [f], "o", color=line.get_color())
+        ax.annotate(f"peak |F| {f:.4g} {unit} at {t:.3g} s ({how})", (t, f), textcoords="offset points",
+                    xytext=(12, -14))
     ax.set_xlabel("time [s]")
-    ax.set_ylabel("force on the obstacle [N]")
+    ax.set_ylabel(f"force on the obstacle [{unit}]")
     ax.set_title(title or Path(series_csv).parent.name)
     ax.grid(alpha=0.3)
-    ax.legend()
+    ax.legend(fontsize=8)
     return _save(fig, png)
 
 
-def plot_series(series_csv: str | Path, png: str | Path, title: str = "") -> Path:
+def plot_series(series_csv: str | Path, png: str | Path, title: str = "", dim: int = 3) -> Path:
     plt = _pyplot()
     data = np.atleast_1d(_load(series_csv))
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 6), dpi=120, sharex=True)
     ax1.plot(data["time"], data["kinetic_energy"], color="C0")
-    ax1.set_ylabel("kinetic energy [J, J/m in 2D]")
-    ax2.plot(data["time"], data["front_x"], color="C1")
+    ax1.set_ylabel("kinetic energy [J]" if dim == 3 else "kinetic energy [J/m]")
+    fronts = [c for c in data.dtype.names if c.startswith("front_x_body")]
+    for k, col in enumerate(fronts or ["front_x"]):
+        ax2.plot(data["time"], data[col], color=f"C{k + 1}", label=col)
+    if fronts:
+        ax2.legend(fontsize=8)
     ax2.set_ylabel("front position x [m]")
     ax2.set_xlabel("time [s]")
     for ax in (ax1, ax2):
@@ -87,18 +108,51 @@ def plot_series(series_csv: str | Path, png: str | Path, title: str = "") -> Pat
     return _save(fig, png)
 
 
-def plot_deposit(positions: np.ndarray, bodies: np.ndarray, png: str | Path, title: str = "") -> Path:
+def plot_deposit(positions: np.ndarray, labels: np.ndarray, png: str | Path, title: str = "",
+                 names: dict | None = None, surfaces: list | None = None) -> Path:
+    """A 2D run's particles coloured by ``labels`` (``names``: label -> legend text, e.g. the material),
+    with the rigid surfaces (``surfaces``: (label, tessellate.Surface) of the planes and obstacles) drawn."""
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(8, 4), dpi=120)
-    for b in np.unique(bodies):
-        sel = bodies == b
-        ax.scatter(positions[sel, 0], positions[sel, 1], s=2, label=f"body {b}")
+    for b in np.unique(labels):
+        sel = labels == b
+        ax.scatter(positions[sel, 0], positions[sel, 1], s=2, label=(names or {}).get(int(b), f"body {b}"))
+    lo, hi = positions.min(axis=0), positions.max(axis=0)
+    for k, (label, surf) in enumerate(surfaces or []):
+        seg = surf.vertices[surf.cells][:, :, :2]
+        for j, (a, b) in enumerate(seg):
+            ax.plot([a[0], b[0]], [a[1], b[1]], color="0.25", lw=2.0, label=label if j == 0 else None,
+                    ls=["-", "--", ":", "-."][k % 4])
+        lo, hi = np.minimum(lo, seg.reshape(-1, 2).min(axis=0)), np.maximum(hi, seg.reshape(-1, 2).max(axis=0))
+    pad = 0.03 * float(np.max(hi - lo))
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.set_title(title)
-    ax.legend(markerscale=4)
+    ax.legend(markerscale=4, fontsize=8)
     return _save(fig, png)
+
+
+def _rigid_surfaces(run_dir: Path) -> list:
+    """(label, Surface) of the planes and obstacles of a 2D run, rebuilt from its case.json; [] where the
+    case cannot be rebuilt here (a moved run folder whose case refers to files no longer beside it)."""
+    import json
+
+    from .api import scene_from_dict
+    from .errors import CaseError
+
+    try:
+        scene = scene_from_dict(json.loads((run_dir / "case.json").read_text()), run_dir)
+    except (CaseError, OSError, ValueError):
+        return []
+    out = []
+    for stage in scene.boundaries + scene.obstacles:
+        surf = stage.surface()
+        if surf is not None and surf.kind == "line":
+            out.append((f"{stage.json_path} ({stage.label})", surf))
+    return out
 
 
 def plot_run(run_dir: str | Path, out_dir: str | Path | None = None) -> list[Path]:
@@ -106,18 +160,27 @@ def plot_run(run_dir: str | Path, out_dir: str | Path | None = None) -> list[Pat
     hazard maps over a hillshade when the run wrote them (maps_plot.py)."""
     from .engine import checkpoint
 
+    import json
+
     run_dir = Path(run_dir)
     out = Path(out_dir) if out_dir else run_dir / "plots"
     out.mkdir(parents=True, exist_ok=True)
+    case = json.loads((run_dir / "case.json").read_text()) if (run_dir / "case.json").is_file() else {}
+    dim = int(case.get("dimension", 3))
+    status = run_dir / "status.json"
+    peaks = json.loads(status.read_text()).get("obstacles", {}) if status.is_file() else {}
     series = run_dir / "series.csv"
-    made = [plot_series(series, out / "series.png", run_dir.name)]
+    made = [plot_series(series, out / "series.png", run_dir.name, dim)]
     if obstacle_names(_load(series).dtype.names):
-        made.append(plot_obstacle_forces(series, out / "forces.png", run_dir.name))
+        made.append(plot_obstacle_forces(series, out / "forces.png", run_dir.name, dim, peaks))
     if checkpoint.newest(run_dir) is not None:
         arrays, meta = checkpoint.load(run_dir)
         if arrays["p_x"].shape[1] == 2:
+            materials = [b.get("material", "?") for b in case.get("bodies", [])]
+            names = {b: f"bodies.{b}: {m}" for b, m in enumerate(materials)}
             made.append(plot_deposit(arrays["p_x"], arrays["p_body"], out / "deposit.png",
-                                     f"{run_dir.name}: particles at t = {meta['time']:.4g} s"))
+                                     f"{run_dir.name}: particles at t = {meta['time']:.4g} s", names,
+                                     _rigid_surfaces(run_dir)))
     if (run_dir / "maps" / "summary.json").is_file():
         from .maps_plot import plot_maps
 

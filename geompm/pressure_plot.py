@@ -3,8 +3,9 @@
 The last entry of ``surfaces.pvd`` (writers/surfaces.py) holds, per face, the
 normal pressure at the step of the largest |F| so far (``pressure_at_peak_force``)
 and the running maximum (``max_normal_pressure``).  One panel per obstacle:
-in 3D its faces coloured by the pressure at the peak force, seen from the side
-the load comes from (the camera along the pressure-weighted mean normal); in
+in 3D its faces coloured by the pressure at the peak force, upright as gravity
+stands (the axis gravity acts along drawn vertical) and seen from the side the
+load comes from (the camera along the pressure-weighted mean normal); in
 2D its outline coloured the same way.  The title names the peak force's time
 and the hot spot (status.json).
 """
@@ -47,6 +48,8 @@ def plot_pressures(run_dir: Path, png: Path, title: str = "") -> Path | None:
         return None
     status = run_dir / "status.json"
     obstacles = json.loads(status.read_text()).get("obstacles", {}) if status.is_file() else {}
+    case = run_dir / "case.json"
+    gravity = json.loads(case.read_text()).get("gravity") if case.is_file() else None
     plt = _pyplot()
     three_d = loaded[0][1].cells[0].type == "triangle"
     fig = plt.figure(figsize=(6.5 * len(loaded), 5), dpi=120)
@@ -54,7 +57,7 @@ def plot_pressures(run_dir: Path, png: Path, title: str = "") -> Path | None:
         p = m.cell_data["pressure_at_peak_force"][0]
         cells = m.cells[0].data
         ax = fig.add_subplot(1, len(loaded), k + 1, projection="3d" if three_d else None)
-        art = _draw(ax, m.points, cells, p, three_d, m.cell_data["normal"][0])
+        art = _draw(ax, m.points, cells, p, three_d, m.cell_data["normal"][0], vertical_axis(gravity))
         fig.colorbar(art, ax=ax, shrink=0.7, label="normal pressure at the peak force [Pa]")
         o = obstacles.get(label, {})
         head = f"{label}: peak force at t = {o['peak_time']:.3g} s" if "peak_time" in o else label
@@ -67,13 +70,26 @@ def plot_pressures(run_dir: Path, png: Path, title: str = "") -> Path | None:
     return _save(fig, png)
 
 
-def _draw(ax, points, cells, p, three_d, normals):
+def vertical_axis(gravity) -> int:
+    """The axis drawn upright: the one gravity acts along (z when there is none)."""
+    g = np.asarray(gravity if gravity else [0.0, 0.0, -1.0], float)
+    return int(np.argmax(np.abs(g))) if len(g) == 3 and np.any(g) else 2
+
+
+def _draw(ax, points, cells, p, three_d, normals, up: int = 2):
+    """A 3D obstacle is drawn with the axis gravity acts along upright (matplotlib's z): a model with
+    gravity along -y stands as it stands in the flume, not on its side."""
     from matplotlib import cm, colors
+    from matplotlib.ticker import MaxNLocator
 
     norm = colors.Normalize(vmin=0.0, vmax=max(float(p.max()), 1e-12))
     if three_d:
         from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
+        order = [a for a in range(3) if a != up] + [up]
+        if up == 1:
+            order = [0, 2, 1]  # x, then z across, y up: right-handed seen from the flume's side
+        points, normals = points[:, order], normals[:, order]
         tri = points[cells]
         art = Poly3DCollection(tri, facecolors=cm.viridis(norm(p)), edgecolor="none")
         ax.add_collection3d(art)
@@ -86,9 +102,13 @@ def _draw(ax, points, cells, p, three_d, normals):
             view /= np.linalg.norm(view)
             ax.view_init(elev=float(np.degrees(np.arcsin(np.clip(view[2], -1, 1)))) + 15.0,
                          azim=float(np.degrees(np.arctan2(view[1], view[0]))))
-        ax.set_xlabel("x [m]")
-        ax.set_ylabel("y [m]")
-        ax.set_zlabel("z [m]")
+        names = "xyz"
+        ax.set_xlabel(f"{names[order[0]]} [m]")
+        ax.set_ylabel(f"{names[order[1]]} [m]")
+        ax.set_zlabel(f"{names[order[2]]} [m] (up)")
+        for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+            axis.set_major_locator(MaxNLocator(4))
+        ax.tick_params(labelsize=7)
         return cm.ScalarMappable(norm=norm, cmap="viridis")
     from matplotlib.collections import LineCollection
 

@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 from .contact_force import COUNT, DEPTH, FACES_GUARD, OBSTACLE, contact_and_record, record_on_face

@@ -20,7 +20,6 @@ reported (the source: R^2 > 0.99).
 
 from __future__ import annotations
 
-import json
 import math
 import os
 from pathlib import Path
@@ -28,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import CaseError
-from ..fileio import atomic_write_text
+from ..fileio import atomic_write_json
 from ..ownership import holds_only, prepare_folder
 from ..schema.load import load_case
 from . import metrics as M
@@ -249,7 +248,7 @@ def _report(args, out, soils, tried, evaluations, refs, folders, bounds) -> int:
     fit = linear_fit([r["cell_size"] for r in done], [r["value"] for r in done]) if len(done) >= 3 else None
     summary = {"param": args.param, "bounds": {str(h): bp for (_, _, h), bp in zip(soils, args.bound_pairs)}, "points": args.points, "rounds": args.rounds,
                "results": rows, "fit": dict(zip(("intercept", "slope", "r_squared"), fit)) if fit else None}
-    atomic_write_text(out / "calibration.json", json.dumps(summary, indent=2) + "\n")
+    atomic_write_json(out / "calibration.json", summary)
     name = args.param.split(".")[-1]
     for r in rows:
         if r.get("value") is not None:

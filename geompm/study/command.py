@@ -17,7 +17,7 @@ import sys
 from pathlib import Path
 
 from ..errors import CaseError
-from ..fileio import atomic_write_text
+from ..fileio import atomic_write_json
 from ..ownership import holds_only, prepare_folder
 from ..schema.load import apply_overrides, load_case, read_json
 from . import metrics as M
@@ -219,7 +219,7 @@ def cmd_study(args) -> int:
                "reference": ref_name, "varied": vary, "sampled": {k: f"{d}{tuple(a)}" for k, (d, a) in samples.items()},
                "seed": args.seed if samples else None, "orders": orders,
                "distribution": report.distribution(rows, scalar_names) if samples else {}}
-    atomic_write_text(out / "study_summary.json", json.dumps(summary, indent=2, default=str) + "\n")
+    atomic_write_json(out / "study_summary.json", json.loads(json.dumps(summary, default=str)))
     errs = [f"{n}_error" for n in scalar_names] + [f"{c}_l2_error" for c in series_names]
     try:
         made = report.plot_study(out / "study.png", rows, errs if reference is not None else [], scalar_names,

@@ -32,7 +32,6 @@ checkpoint goes to ``maps/state.npz`` so a resumed run carries on.
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
@@ -41,7 +40,7 @@ from numba import njit
 from pydantic import Field
 
 from ..errors import CaseError
-from ..fileio import atomic_path, case_relative, atomic_write_text
+from ..fileio import atomic_path, atomic_write_json, case_relative
 from ..plugin import Params
 from .base import Writer
 
@@ -193,7 +192,7 @@ class HazardMapWriter(Writer):
                    "crs": self.crs, "depth_threshold": self.params.depth_threshold,
                    "dem": str(self.dem_path.resolve())}
         summary.update(self._travel(flowed))
-        atomic_write_text(self.folder / "summary.json", json.dumps(summary, indent=1) + "\n")
+        atomic_write_json(self.folder / "summary.json", summary, indent=1)
 
     def _travel(self, flowed) -> dict:
         """Runout along the ground from the release's top to the farthest cell the flow reached (depth >=

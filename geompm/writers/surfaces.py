@@ -11,8 +11,12 @@ outline in the x-y plane, per metre of depth).  Cell data: ``normal`` (3, unit,
 out of the solid for obstacles; triangles otherwise from the vertex order,
 lines the in-plane normal) and ``stage_id``; on every obstacle (and the
 terrain) the contact force of the output's step spread on the faces
-(recorded.ContactForceStage.start_faces): ``normal_pressure`` [Pa, pushing in
-positive], ``shear_traction`` [Pa], and over the run so far
+(recorded.ContactForceStage.start_faces): ``traction`` (3) [Pa], the force of
+the material on the face per unit area, normal and shear together, whose
+integral over the surface (ParaView's Integrate Variables; per metre of depth
+in 2D) is the obstacle's force in series.csv at that step; ``normal_pressure``
+[Pa, pushing in positive], ``shear_traction`` [Pa, its tangential part's
+magnitude], and over the run so far
 ``max_normal_pressure`` [Pa] and ``time_of_max`` [s], and ``pressure_at_peak_force``
 [Pa], the normal pressure at the step of the largest |F| so far.  A surface that
 neither moves nor carries pressures is written once and listed at every
@@ -77,7 +81,9 @@ class SurfacesWriter(Writer):
         if loaded is not None:
             n = np.zeros((len(surf.cells), 3))
             n[:, :loaded.dim] = loaded.face_normal
-            cell.update(normal=n, normal_pressure=loaded.face_pressure.copy(), shear_traction=loaded.face_shear.copy(),
+            traction = np.zeros((len(surf.cells), 3))
+            traction[:, :loaded.dim] = loaded.face_force / loaded.face_area[:, None]
+            cell.update(normal=n, traction=traction, normal_pressure=loaded.face_pressure.copy(), shear_traction=loaded.face_shear.copy(),
                         max_normal_pressure=loaded.face_pmax.copy(), time_of_max=loaded.face_tmax.copy(),
                         pressure_at_peak_force=loaded.face_p_at_peak.copy())
         mesh = meshio.Mesh(pts, [(surf.kind, surf.cells)], cell_data={k: [v] for k, v in cell.items()})
