@@ -79,8 +79,9 @@ def plot_obstacle_forces(series_csv: str | Path, png: str | Path, title: str = "
             k = int(np.argmax(mag))
             f, t, how = float(mag[k]), float(data["time"][k]), "series rows"
         ax.plot([t], [f], "o", color=line.get_color())
+        late = t > 0.5 * (data["time"][0] + data["time"][-1])
         ax.annotate(f"peak |F| {f:.4g} {unit} at {t:.3g} s ({how})", (t, f), textcoords="offset points",
-                    xytext=(12, -14))
+                    xytext=(-12 if late else 12, -14), ha="right" if late else "left")
     ax.set_xlabel("time [s]")
     ax.set_ylabel(f"force on the obstacle [{unit}]")
     ax.set_title(title or Path(series_csv).parent.name)

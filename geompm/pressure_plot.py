@@ -101,13 +101,15 @@ def _draw(ax, points, cells, p, three_d, normals, up: int = 2):
         if np.linalg.norm(view) > 0.0:
             view /= np.linalg.norm(view)
             ax.view_init(elev=float(np.degrees(np.arcsin(np.clip(view[2], -1, 1)))) + 15.0,
-                         azim=float(np.degrees(np.arctan2(view[1], view[0]))))
+                         azim=float(np.degrees(np.arctan2(view[1], view[0]))) + 30.0)  # three-quarter view:
+            # straight along the load the axis across the screen collapses and its ticks overlap
         names = "xyz"
         ax.set_xlabel(f"{names[order[0]]} [m]")
         ax.set_ylabel(f"{names[order[1]]} [m]")
         ax.set_zlabel(f"{names[order[2]]} [m] (up)")
-        for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
-            axis.set_major_locator(MaxNLocator(4))
+        span = np.maximum(hi - lo, 1e-12)
+        for axis, a in zip((ax.xaxis, ax.yaxis, ax.zaxis), range(3)):  # fewer ticks on a short axis
+            axis.set_major_locator(MaxNLocator(max(1, int(4 * span[a] / span.max()))))
         ax.tick_params(labelsize=7)
         return cm.ScalarMappable(norm=norm, cmap="viridis")
     from matplotlib.collections import LineCollection

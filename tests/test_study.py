@@ -192,3 +192,26 @@ def test_study_runs_on_an_existing_dask_scheduler(tmp_path):
     rows = _rows(out / "study.csv")
     assert [r["status"] for r in rows] == ["finished", "finished"]
     assert [int(r["particles"]) for r in rows] == [50, 200]
+
+
+def test_threads_follow_the_option_then_numba_num_threads(tmp_path, monkeypatch):
+    """Each variant's status.json records the numba threads it ran with: --threads 1 gives 1 even on a
+    2-core machine where the default would share 2 cores among fewer runs; an exported NUMBA_NUM_THREADS=1
+    is honoured the same way (numba's meaning: threads per process), and --threads 0 is refused (exit 2).
+    Two workers of one 2-thread run each would oversubscribe the cores (a variant took 135 s against 12 s
+    alone in a user's trial)."""
+    from geompm.study.execute import threads_per_run
+
+    args = ("--vary", "grid.cell_size=0.04", "--set", "time.end=0.02", "--workers", "1")
+    code, out = _study(tmp_path, *args, "--threads", "1", name="opt")
+    assert code == 0
+    assert json.loads((out / "runs" / "v000" / "status.json").read_text())["threads"] == 1
+    assert main(["study", str(CASES / "column_collapse.json"), "--out", str(tmp_path / "bad"), "--threads",
+                 "0", "--vary", "grid.cell_size=0.04"]) == 2
+    monkeypatch.setenv("NUMBA_NUM_THREADS", "1")
+    assert threads_per_run(1, 1) == 1 and threads_per_run(1, 1, 3) == 3
+    monkeypatch.delenv("NUMBA_NUM_THREADS")
+    import os
+
+    assert threads_per_run(1, 1) == (os.cpu_count() or 1)
+    assert threads_per_run(os.cpu_count() or 1, 8) == 1

@@ -31,7 +31,7 @@ from ..fileio import atomic_write_json
 from ..ownership import holds_only, prepare_folder
 from ..schema.load import load_case
 from . import metrics as M
-from .execute import Pool, finished, run_variant, threads_per_run, variant_case
+from .execute import Pool, add_threads_option, check_threads, finished, run_variant, threads_per_run, variant_case
 from .report import write_csv
 
 COMPARED = ("X_star", "K_star")
@@ -53,6 +53,7 @@ def add_parser(sub) -> None:
     p.add_argument("--out", help="calibration folder (default calibrations/<fluid case name>)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="an existing Dask scheduler")
     p.add_argument("--workers", type=int, help="runs in flight on the LocalCluster (default: CPU cores)")
+    add_threads_option(p)
     p.add_argument("--quiet", action="store_true")
     p.set_defaults(func=cmd_calibrate)
 
@@ -167,6 +168,7 @@ class _Runs:
 
 
 def cmd_calibrate(args) -> int:
+    check_threads(args.threads)
     soils, fluid_raw = _check(args)
     bounds = {h: pair for (_, _, h), pair in zip(soils, args.bound_pairs)}
     out = Path(args.out or Path("calibrations") / fluid_raw.get("name", "fluid"))
@@ -178,7 +180,7 @@ def cmd_calibrate(args) -> int:
     workers = None if args.scheduler else min(args.workers or os.cpu_count() or 1, args.points * len(soils))
     with Pool(args.scheduler, workers) as pool:
         runs = _Runs(pool, args.quiet)
-        threads = threads_per_run(pool.workers, args.points * len(soils))
+        threads = threads_per_run(pool.workers, args.points * len(soils), args.threads)
         for path, raw, h in soils:
             runs.want(path, folders[h] / "soil", args.set, variant_case(_raw_of(path), args.set), threads)
         runs.wait()

@@ -22,7 +22,7 @@ from ..ownership import holds_only, prepare_folder
 from ..schema.load import apply_overrides, load_case, read_json
 from . import metrics as M
 from . import report
-from .execute import Pool, finished, run_variant, threads_per_run, variant_case
+from .execute import Pool, add_threads_option, check_threads, finished, run_variant, threads_per_run, variant_case
 from .plan import build_plan, parse_sample, parse_vary
 
 SCALARS = ("runout", "height", "peak_force", "impulse")
@@ -49,6 +49,7 @@ def add_parser(sub) -> None:
                    help="keep the case's VTU/HDF5 writers in every variant (default: series.csv only)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="an existing Dask scheduler (default: LocalCluster)")
     p.add_argument("--workers", type=int, help="variants in flight on the LocalCluster (default: CPU cores)")
+    add_threads_option(p)
     p.add_argument("--quiet", action="store_true")
     p.set_defaults(func=cmd_study)
 
@@ -145,10 +146,10 @@ def _prepare_folder(out: Path, args) -> None:
     (out / "runs").mkdir(exist_ok=True)
 
 
-def _run(pool: Pool, case, jobs, quiet: bool) -> dict:
+def _run(pool: Pool, case, jobs, quiet: bool, threads_wanted: int | None = None) -> dict:
     from distributed import as_completed
 
-    threads = threads_per_run(pool.workers, len(jobs))
+    threads = threads_per_run(pool.workers, len(jobs), threads_wanted)
     futures = {pool.submit(run_variant, case, str(d), sets, threads, name=v.name): v for v, d, sets in jobs}
     outcomes = {}
     bar = None
@@ -176,6 +177,7 @@ def cmd_study(args) -> int:
     case = args.case
     raw = read_json(Path(case))
     check_metrics(args.metric)
+    check_threads(args.threads)
     if args.samples < 1:
         raise CaseError([("--samples", "must be at least 1")])
     vary, samples = parse_vary(args.vary), parse_sample(args.sample)
@@ -195,7 +197,7 @@ def cmd_study(args) -> int:
     if todo:
         workers = None if args.scheduler else min(args.workers or os.cpu_count() or 1, len(todo))
         with Pool(args.scheduler, workers) as pool:
-            outcomes = _run(pool, str(Path(case).resolve()), todo, args.quiet)
+            outcomes = _run(pool, str(Path(case).resolve()), todo, args.quiet, args.threads)
 
     pairs = [report.run_row(v, dirs[v.name], outcomes.get(v.name)) for v in variants]
     rows, series = [p[0] for p in pairs], [p[1] for p in pairs]

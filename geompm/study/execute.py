@@ -93,7 +93,28 @@ class Pool:
         self.close()
 
 
-def threads_per_run(workers: int, n_runs: int) -> int:
-    """Numba threads for each run so that the runs in flight fill the machine's cores once."""
+def threads_per_run(workers: int, n_runs: int, requested: int | None = None) -> int:
+    """Numba threads for each run: ``requested`` (--threads) if given; else NUMBA_NUM_THREADS if the user
+    exported it (numba's own meaning: threads per process, so each run gets that many); else the machine's
+    cores shared among the runs in flight, so that they fill the cores once."""
+    if requested:
+        return requested
+    env = os.environ.get("NUMBA_NUM_THREADS", "").strip()
+    if env.isdigit() and int(env) > 0:
+        return int(env)
     cores = os.cpu_count() or 1
     return max(1, cores // max(1, min(workers, n_runs)))
+
+
+def add_threads_option(parser) -> None:
+    """--threads N of `geompm study` and `geompm calibrate`."""
+    parser.add_argument("--threads", type=int, metavar="N",
+                        help="numba threads of each run (default: NUMBA_NUM_THREADS if set, else the CPU cores "
+                             "shared among the runs in flight); workers x threads should not exceed the cores")
+
+
+def check_threads(threads: int | None) -> None:
+    from ..errors import CaseError
+
+    if threads is not None and threads < 1:
+        raise CaseError([("--threads", f"{threads} is not a thread count; give 1 or more")])
