@@ -93,6 +93,15 @@ def _override_value(key: str, text: str):
         raise CaseError([(key, f"--set {key}: the value cannot be read (nested too deeply or too long)")]) from None
 
 
+def _existing_keys(node) -> str:
+    """'; it has: a, b, c' (the keys or indices the case has at the level where a --set path failed)."""
+    if isinstance(node, dict) and node:
+        return "; it has: " + ", ".join(sorted(str(k) for k in node))
+    if isinstance(node, list) and node:
+        return f"; it has indices 0 to {len(node) - 1}"
+    return ""
+
+
 def apply_overrides(raw: dict, sets: list[str] | tuple[str, ...]) -> dict:
     """Apply ``dotted.key=value`` overrides; value parsed as JSON, else kept as text."""
     raw = copy.deepcopy(raw)
@@ -110,7 +119,8 @@ def apply_overrides(raw: dict, sets: list[str] | tuple[str, ...]) -> dict:
             try:
                 node = node[nxt]
             except (KeyError, IndexError, TypeError):
-                raise CaseError([(join_path(*parts[: i + 1]), f"--set {key}: no such key in the case")]) from None
+                raise CaseError([(join_path(*parts[: i + 1]), f"--set {key}: no such key in the case"
+                                  + _existing_keys(node))]) from None
         last = parts[-1]
         if isinstance(node, list):
             if not last.isdigit() or int(last) >= len(node):
