@@ -162,6 +162,8 @@ def _run_folder(args, loaded, scene) -> Path:
             # a run folder of a geompm without markers, or one the user moved: continuing it there makes it
             # this run's folder again (it rotates its checkpoints)
             mark_folder(run_dir, "run", adopted=True)
+        if json.loads(saved.read_text()) != loaded.raw:  # a new end time (or backend): the folder's case says so
+            atomic_write_json(saved, loaded.raw)
         return run_dir
     run_dir = Path(args.out) if args.out else Path("runs") / scene.name
     if run_dir.exists() and (not run_dir.is_dir() or any(run_dir.iterdir())):
@@ -217,12 +219,26 @@ class _StopOnSignal:
             signal.signal(s, h)
 
 
+def _resume_end_time(args) -> None:
+    """--resume continues to the end time the run was started with (its case.json), not to the case file's:
+    a run started with --set time.end=0.5 resumes to 0.5 s unless --set time.end says otherwise."""
+    if not args.resume or any(s.split("=", 1)[0] == "time.end" for s in (args.set or [])):
+        return
+    saved = Path(args.resume) / "case.json"
+    try:
+        end = json.loads(saved.read_text())["time"]["end"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return  # _run_folder refuses a folder without a readable case.json
+    args.set = list(args.set or []) + [f"time.end={end!r}"]
+
+
 def cmd_run(args) -> int:
     from .assemble import fixed_step_problem as _fixed_step_problem
     from .engine.runner import Interrupted, Runner
     from .engine.scheduler import Simulation
     from .writers.series import SeriesWriter
 
+    _resume_end_time(args)
     loaded, scene = _load(args)
     mem, nodes, dt = _estimate(scene)
     run_dir = _run_folder(args, loaded, scene)
@@ -239,6 +255,11 @@ def cmd_run(args) -> int:
     runner = Runner(sim, run_dir, writers, progress=not args.quiet)
     if args.resume:
         runner.resume()
+        if sim.time >= scene.end_time * (1 - 1e-12):
+            log.warning(f"'{run_dir}' already reached t = {sim.time:.6g} s, its case's end time "
+                        f"(time.end = {scene.end_time:g} s): nothing to do; to run on, resume with "
+                        f"--set time.end=<a later time>")
+            return 0
         log.info(f"geompm {__version__}: resuming '{scene.name}' in {run_dir} at step {sim.step_count}, "
                  f"t = {sim.time:.6g} s, to end time {scene.end_time:g} s")
     else:
@@ -279,7 +300,8 @@ def cmd_run(args) -> int:
 def _run_dir_arg(path) -> Path:
     run_dir = Path(path)
     if not (run_dir / "series.csv").is_file():
-        raise CaseError([("", f"'{run_dir}' is not a geompm run folder (no series.csv)")])
+        raise CaseError([("RUN_DIR", f"'{run_dir}' is not a geompm run folder (no series.csv); give a folder "
+                                     "that `geompm run` wrote (runs/<case name> by default)")])
     return run_dir
 
 
@@ -462,7 +484,7 @@ def main(argv=None) -> int:
     try:
         return args.func(args)
     except CaseError as exc:
-        refused = all(path.startswith("--") for path, _ in exc.problems)
+        refused = all(path.startswith("--") or path.isupper() for path, _ in exc.problems)  # an option or argument
         print("error: refused:" if refused else "error: the case is not valid:", file=sys.stderr)
         for path, msg in exc.problems:
             print(f"  {_one_line(path) or '<case>'}: {_one_line(msg)}", file=sys.stderr)
