@@ -42,26 +42,13 @@ def _bin_range(tri_lo, tri_hi, lo, inv_b, nb, out):
 
 
 @njit(cache=True)
-def _count_entries(tri, lo, inv_b, nb, counts):
-    """Triangles per bin (counts, flat bins) and the total; tri (f, 3, 3)."""
+def _bin_entries(tri, lo, inv_b, nb, counts, fill, ids):
+    """Walk every (triangle, bin) pair of the triangles' bounding boxes; tri (f, 3, 3).  With ``ids`` of
+    length 0: count the triangles of each bin into counts (flat bins); else write each triangle's id at
+    fill[bin] (the CSR start of the bin, advanced as it fills).  Returns the number of pairs."""
     r = np.empty(6, np.int64)
     total = 0
-    for f in range(tri.shape[0]):
-        tlo = np.minimum(np.minimum(tri[f, 0], tri[f, 1]), tri[f, 2])
-        thi = np.maximum(np.maximum(tri[f, 0], tri[f, 1]), tri[f, 2])
-        _bin_range(tlo, thi, lo, inv_b, nb, r)
-        for i in range(r[0], r[3] + 1):
-            for j in range(r[1], r[4] + 1):
-                for k in range(r[2], r[5] + 1):
-                    counts[(i * nb[1] + j) * nb[2] + k] += 1
-                    total += 1
-    return total
-
-
-@njit(cache=True)
-def _fill_entries(tri, lo, inv_b, nb, start, ids):
-    r = np.empty(6, np.int64)
-    fill = start[:-1].copy()
+    counting = ids.shape[0] == 0
     for f in range(tri.shape[0]):
         tlo = np.minimum(np.minimum(tri[f, 0], tri[f, 1]), tri[f, 2])
         thi = np.maximum(np.maximum(tri[f, 0], tri[f, 1]), tri[f, 2])
@@ -70,8 +57,13 @@ def _fill_entries(tri, lo, inv_b, nb, start, ids):
             for j in range(r[1], r[4] + 1):
                 for k in range(r[2], r[5] + 1):
                     b = (i * nb[1] + j) * nb[2] + k
-                    ids[fill[b]] = f
-                    fill[b] += 1
+                    if counting:
+                        counts[b] += 1
+                    else:
+                        ids[fill[b]] = f
+                        fill[b] += 1
+                    total += 1
+    return total
 
 
 @njit(cache=True, inline="always")
@@ -163,13 +155,13 @@ def bin_grid(tri: np.ndarray, lo: np.ndarray, hi: np.ndarray):
         bsize = span.max() / per_axis * np.ones(3)
         nb = np.maximum(np.ceil(span / bsize), 1).astype(np.int64)
         counts = np.zeros(int(nb.prod()) + 1, np.int64)
-        total = _count_entries(tri, lo, 1.0 / bsize, nb, counts[1:])
+        total = _bin_entries(tri, lo, 1.0 / bsize, nb, counts[1:], counts[:0], np.zeros(0, np.int64))
         if total <= MAX_BIN_ENTRIES or per_axis <= 1.0:
             break
         per_axis = max(1.0, per_axis / 2.0)
     start = np.cumsum(counts)
     ids = np.empty(int(start[-1]), np.int64)
-    _fill_entries(tri, lo, 1.0 / bsize, nb, start, ids)
+    _bin_entries(tri, lo, 1.0 / bsize, nb, counts[:0], start[:-1].copy(), ids)
     return bsize, nb, start, ids
 
 
