@@ -250,8 +250,8 @@ def _check_output_intervals(scene: Scene, outputs) -> None:
         return
     why = step_explanation(scene)
     raise CaseError([(f"outputs.{k}.interval", f"{why}; the interval {outputs[k].interval:g} s is shorter than "
-                                               f"that step: if the step is right, use an interval of at least "
-                                               f"{dt:.3g} s, or 0 to write every step")
+                                               f"the time step ({dt:.3g} s): if that step is right, use an "
+                                               f"interval of at least {dt:.3g} s, or 0 to write every step")
                      for k in short])
 
 

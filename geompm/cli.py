@@ -219,17 +219,12 @@ class _StopOnSignal:
             signal.signal(s, h)
 
 
-def _resume_end_time(args) -> None:
-    """--resume continues to the end time the run was started with (its case.json), not to the case file's:
-    a run started with --set time.end=0.5 resumes to 0.5 s unless --set time.end says otherwise."""
-    if not args.resume or any(s.split("=", 1)[0] == "time.end" for s in (args.set or [])):
-        return
-    saved = Path(args.resume) / "case.json"
+def _saved_end_time(args) -> float | None:
+    """time.end of the case a run folder was started (or last resumed) with, before --resume changes it."""
     try:
-        end = json.loads(saved.read_text())["time"]["end"]
+        return float(json.loads((Path(args.resume) / "case.json").read_text())["time"]["end"])
     except (OSError, ValueError, KeyError, TypeError):
-        return  # _run_folder refuses a folder without a readable case.json
-    args.set = list(args.set or []) + [f"time.end={end!r}"]
+        return None  # _run_folder refuses a folder without a readable case.json
 
 
 def cmd_run(args) -> int:
@@ -238,7 +233,7 @@ def cmd_run(args) -> int:
     from .engine.scheduler import Simulation
     from .writers.series import SeriesWriter
 
-    _resume_end_time(args)
+    saved_end = _saved_end_time(args) if args.resume else None
     loaded, scene = _load(args)
     mem, nodes, dt = _estimate(scene)
     run_dir = _run_folder(args, loaded, scene)
@@ -260,6 +255,11 @@ def cmd_run(args) -> int:
                         f"(time.end = {scene.end_time:g} s): nothing to do; to run on, resume with "
                         f"--set time.end=<a later time>")
             return 0
+        explicit = any(x.split("=", 1)[0] == "time.end" for x in args.set or [])
+        if saved_end is not None and saved_end != scene.end_time and not explicit:
+            log.warning(f"warning: the case file's time.end is {scene.end_time:g} s but '{run_dir}' was run to "
+                        f"{saved_end:g} s (an earlier --set, or an edited file): it continues to "
+                        f"{scene.end_time:g} s; --set time.end={saved_end:g} keeps the old end")
         log.info(f"geompm {__version__}: resuming '{scene.name}' in {run_dir} at step {sim.step_count}, "
                  f"t = {sim.time:.6g} s, to end time {scene.end_time:g} s")
     else:
