@@ -57,6 +57,11 @@ def load_surface_mesh(path: Path, scale: float, translate, json_path: str):
         raise CaseError([(json_path, f"cannot read mesh '{path.name}': {exc}")]) from None
     if mesh.is_empty or len(mesh.faces) == 0:
         raise CaseError([(json_path, f"mesh '{path.name}' has no faces")])
+    # zero-area faces (common in CAD exports) enclose nothing; without them a closed mesh is watertight
+    mesh.update_faces(mesh.nondegenerate_faces())
+    mesh.remove_unreferenced_vertices()
+    if len(mesh.faces) == 0:
+        raise CaseError([(json_path, f"mesh '{path.name}' has only zero-area faces")])
     if not mesh.is_watertight:
         raise CaseError([(json_path, f"mesh '{path.name}' is not watertight (it has holes); close it in your CAD tool")])
     mesh.apply_scale(scale)

@@ -157,3 +157,16 @@ def test_study_summary_is_strict_json():
 
     text = strict_json({"order": float("nan"), "runs": [np.float64(np.inf), np.int64(3)]})
     assert json.loads(text) == {"order": None, "runs": [None, 3]} and "NaN" not in text
+
+
+def test_zero_area_faces_are_dropped_before_the_watertight_check(tmp_path):
+    """A closed box STL with two zero-area triangles (as CAD exports leave them) was refused as 'not
+    watertight'; the degenerate faces enclose nothing, so they are dropped and the 12 real faces load."""
+    from geompm.geometry import load_surface_mesh
+
+    box = trimesh.creation.box([0.3, 0.2, 0.1])
+    bad = trimesh.Trimesh(box.vertices, np.vstack([box.faces, [[0, 0, 1], [2, 3, 3]]]), process=False)
+    bad.export(tmp_path / "deg.stl")
+    mesh = load_surface_mesh(tmp_path / "deg.stl", 1.0, [0.0, 0.0, 0.0], "obstacles.0.file")
+    assert len(mesh.faces) == 12 and mesh.is_watertight
+    assert mesh.volume == pytest.approx(0.3 * 0.2 * 0.1, rel=1e-6)
