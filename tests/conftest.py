@@ -1,4 +1,4 @@
-"""Shared fixtures: paths to the repository's cases and the shared reference data."""
+"""Shared fixtures: paths to the repository's cases and its reference data (tests/refdata, README there)."""
 
 from pathlib import Path
 
@@ -6,13 +6,13 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ROOT / "cases"
-REFDATA = ROOT.parent / "shared" / "refdata"
+REFDATA = ROOT / "tests" / "refdata"  # copied from the project's shared/refdata, each file citing its source
 
 
 @pytest.fixture
 def refdata():
     if not REFDATA.is_dir():
-        pytest.fail(f"reference data folder {REFDATA} is missing (shared/ must sit beside the repository)")
+        pytest.fail(f"reference data folder {REFDATA} is missing from the repository")
     return REFDATA
 
 
