@@ -1,6 +1,6 @@
 """Rigid boundaries with Coulomb friction, against rigid-body closed forms.
 
-Block on an incline (shared/refdata/analytic_block_on_incline.csv): a block
+Block on an incline (tests/refdata/analytic_block_on_incline.csv): a block
 released on a plane at theta with friction mu slides iff tan(theta) > mu, with
 a = g (sin theta - mu cos theta) and s(t) = a t^2 / 2.  Block sliding on a
 horizontal friction floor at v0: it stops after v0^2 / (2 mu g).
@@ -56,7 +56,7 @@ def test_block_slides_down_the_incline(mu):
 
 @pytest.mark.parametrize("mu, layer", [(0.7, 0.0), (0.62, 0.05)])
 def test_block_stays_when_friction_exceeds_tan_theta(mu, layer):
-    """mu > tan 30 deg = 0.577: the block sticks (rigid-body statics, shared/refdata
+    """mu > tan 30 deg = 0.577: the block sticks (rigid-body statics, tests/refdata
     analytic_block_on_incline.csv), displacement < 1% of a cell after 0.5 s.
 
     The block starts in equilibrium, as a block at rest does: the infinite-slope

@@ -8,7 +8,7 @@ cases/column_collapse.json (Drucker-Prager) and cases/column_collapse_cross.json
 The DP deposit is also checked against the planar collapse scaling of Lube,
 Huppert, Sparks & Freundt (2005) Phys. Rev. E 72:041301 for aspect ratio
 a = H0/L0 = 0.5 < 1.8: (L_inf - L0)/L0 = 1.2 a and H_inf/H0 = 1
-(shared/refdata/granular_collapse_scaling_laws.csv; confidence M there).
+(tests/refdata/granular_collapse_scaling_laws.csv; confidence M there).
 """
 
 import numpy as np
@@ -102,7 +102,7 @@ def test_dp_column_a05_converges_to_within_20_percent_of_lube():
     runs to 1 s).  The two fronts differ by less than 3 % (measured 0.1725 and 0.1705 m: 1.2 %; H0/80 gives
     0.1710 m, docs/validation/column-collapse.md) and the heights by less than 3 % (0.0500 m at both: the top
     of a column with a < 1.15 is left untouched).  The H0/40 runout (L - L0)/L0 is within 20 % of Lube et al. (2005), 1.2 a = 0.60 (measured 0.705, +17.5 %;
-    shared/refdata/granular_collapse_scaling_laws.csv).  Before the plane-strain cone was matched for
+    tests/refdata/granular_collapse_scaling_laws.csv).  Before the plane-strain cone was matched for
     psi = 0 it was 0.735 (+22.5 %), and with APIC the runout grew at every halving."""
     l0, h0 = 0.1, 0.05
     (f1, t1), (f2, t2) = (_front_height((*A05_SETS, f"grid.cell_size={h0 / n}"), h0) for n in (20, 40))

@@ -2,7 +2,7 @@
 
 Reference: Martin, J.C. & Moyce, W.J. (1952) Phil. Trans. R. Soc. A 244:312-324,
 Fig. 3, surge-front position Z = z/a against T = t sqrt(2g/a) for columns of
-width a = 2.25 in and 1.125 in (shared/refdata/dambreak_martin_moyce1952_*.csv).
+width a = 2.25 in and 1.125 in (tests/refdata/dambreak_martin_moyce1952_*.csv).
 
 What is asserted, and why not the issue's 10%: geompm's inviscid, slip-wall
 front leads both experiments by 9-17% for T <= 3.5, and that lead does not

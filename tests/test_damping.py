@@ -3,7 +3,7 @@
 Artificial: a free body (no gravity, no stress gradient) keeps a uniform velocity
 under APIC, so with damping it decays as exp(-zeta_d t), zeta_d = (xi/h) sqrt(E/rho).
 Local: an elastic column under gravity between slip walls, started stress-free,
-settles to the static state sigma_v = -rho g (H - z) (shared/refdata/
+settles to the static state sigma_v = -rho g (H - z) (tests/refdata/
 analytic_selfweight_column_K0.csv) instead of oscillating about it.
 """
 

@@ -4,7 +4,7 @@ Closed form (1D continuum, nu = 0 so plane strain reduces to 1D):
 v(x, t) = v0 cos(w1 t) sin(pi x / 2L), w1 = (pi / 2L) sqrt(E / rho), period
 T1 = 4 L / sqrt(E / rho) = 10 s for L = 25 m, E = 100 Pa, rho = 1 kg/m3;
 the centre-of-mass velocity is v_cm = v0 / (b1 L) cos(w1 t)
-(shared/refdata/analytic_bar_axial_vibration_fixed_free.csv).
+(tests/refdata/analytic_bar_axial_vibration_fixed_free.csv).
 Checks: first-mode period within 2% and total (kinetic + strain) energy drift
 below 1% over 3 periods, APIC with quadratic B-splines.
 """

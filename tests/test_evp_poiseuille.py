@@ -2,7 +2,7 @@
 
 A periodic channel 2 hh = 0.1 m wide between no-slip walls, driven by a body force G = rho g_x =
 1000 Pa/m; Bingham mu = 1 Pa s, tau_y = 20 Pa (Papanastasiou M = 100 s), so the yield surface is at
-y0 = tau_y / G = 0.02 m and the closed form (shared/refdata/analytic_bingham_poiseuille.csv) is
+y0 = tau_y / G = 0.02 m and the closed form (tests/refdata/analytic_bingham_poiseuille.csv) is
 
     u(y) = G / (2 mu) (hh^2 - y^2) - tau_y / mu (hh - |y|)  for y0 <= |y| <= hh,
     u_plug = G / (2 mu) (hh - y0)^2 = 0.45 m/s.

@@ -135,7 +135,7 @@ def test_stream_pressure_at_the_stagnation_zone():
     flow depth (0 < y < d) their mean and peak are within 15 % of the Bernoulli head of the turned stream,
     rho (g d + v^2 / 2) = 2981 Pa = 0.745 rho v^2 (stagnation plus the run-up's weight; the hydrostatic +
     dynamic family p = rho (k g h + alpha v^2) of Armanini 1997 with k = 1, alpha = 1/2;
-    shared/refdata/debris_flow_impact_design_formulas.csv).  Measured 0.66 and 0.82 rho v^2 (at h = 0.02,
+    tests/refdata/debris_flow_impact_design_formulas.csv).  Measured 0.66 and 0.82 rho v^2 (at h = 0.02,
     0.01, 0.005 m: mean 0.57, 0.66, 0.66; peak 0.87, 0.82, 0.82).  The design alpha of 1 to 2.5 in the
     stream test is the force per flow depth (here 1.11): the pressure spreads over the run-up, 2.5 d."""
     from .test_wall_force import D, RHO, V, stream_case

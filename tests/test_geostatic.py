@@ -1,6 +1,6 @@
 """Geostatic initial stress and gravity equilibrium of a laterally confined elastic column.
 
-Closed form (shared/refdata/analytic_selfweight_column_K0.csv): for a column of
+Closed form (tests/refdata/analytic_selfweight_column_K0.csv): for a column of
 height H under gravity, sigma_v(z) = -rho g (H - z) and sigma_h = K0 sigma_v
 with K0 = nu / (1 - nu).  Started from that state, between slip walls, the
 column must stay at rest; started from zero stress it falls and oscillates

@@ -4,7 +4,7 @@ The kernels compute in float64 registers and round what they store, on the CPU a
 (tests/test_cuda_backend.py compares the two in float32 under numba-cuda's simulator).  Checked here:
 - the particle and grid arrays are float32 and take half the bytes of float64 (8 of the 16 bytes of a
   position pair, etc.: every floating-point array, so nbytes halves up to the integer ids);
-- the elastic bar (cases/elastic_bar.json, h = 0.5 m; closed form 4 L / c = 10 s, shared/refdata/
+- the elastic bar (cases/elastic_bar.json, h = 0.5 m; closed form 4 L / c = 10 s, tests/refdata/
   analytic_bar_axial_vibration_fixed_free.csv) keeps its float64 period within 1e-6 (measured
   3.6e-8 at h = 0.5 m, 1.4e-9 at 0.25 m: benchmarks/precision/float32_errors.py) and within 1 % of
   the closed form;

@@ -3,7 +3,7 @@
 - Signed distance from the height field against the exact distance to a paraboloid
   z = (x^2 + y^2) / (2 R) (closest point by dense search on the analytic surface): within 0.05 h.
 - A block sliding on a DEM of a 30 deg incline with mu = 0.3 moves as the closed form
-  s = g (sin theta - mu cos theta) t^2 / 2 (rigid-body dynamics; shared/refdata/analytic_block_on_incline.csv)
+  s = g (sin theta - mu cos theta) t^2 / 2 (rigid-body dynamics; tests/refdata/analytic_block_on_incline.csv)
   and as the same block on the analytic ``plane`` boundary, within 3 %; the same with the slope turned
   37 deg about the vertical, so that the DEM's axes and the slope do not line up.
 - The terrain's force history: its time-mean normal force once the block has landed is the weight's

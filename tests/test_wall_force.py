@@ -7,7 +7,7 @@ The stream turns up the wall; over the quasi-steady phase t = 0.2-0.45 s
 (impact at 0.15 s; afterwards the reflected bore slows the incoming stream)
 the mean horizontal force per metre must lie in the hydrodynamic range
 alpha rho v^2 d with alpha in [1, 2.5] (Hungr, Morgan & Kellerhals 1984:
-alpha = 1.5; Watanabe & Ikeya 1981: 2.0; shared/refdata/
+alpha = 1.5; Watanabe & Ikeya 1981: 2.0; tests/refdata/
 debris_flow_impact_design_formulas.csv).  The hydrostatic part rho g d^2 / 2
 is 1% of rho v^2 d here.  Measured: alpha = 1.05-1.17 over that phase.
 """
