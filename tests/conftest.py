@@ -6,7 +6,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ROOT / "cases"
-REFDATA = ROOT / "tests" / "refdata"  # copied from the project's shared/refdata, each file citing its source
+REFDATA = ROOT / "tests" / "refdata"  # each file cites its source (README there)
 
 
 @pytest.fixture
