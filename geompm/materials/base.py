@@ -37,7 +37,7 @@ from pydantic import Field
 
 from ..plugin import Params, Plugin
 from ..layout import pack_in_layout, param_layout
-from .plausible import DENSITY, warnings_for
+from .plausible import DENSITY
 
 
 class MaterialParams(Params):
@@ -97,11 +97,6 @@ class Material(Plugin):
         """What `geompm validate` and `geompm run` should warn about this law's parameters, each a
         full sentence (the caller names the material's JSON path)."""
         return []
-
-    def plausibility_warnings(self) -> list[str]:
-        """A sentence for each parameter outside the range the law declares (``plausible``), starting with
-        the parameter's name (the caller adds the material's JSON path)."""
-        return warnings_for(self.plausible, self.params)
 
     # -- used by the engine ------------------------------------------------------------
     @property

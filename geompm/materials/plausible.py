@@ -32,9 +32,9 @@ class Plausible:
         return None
 
 
-def warnings_for(plausible, params) -> list[str]:
-    """The sentences for every declared parameter of ``params`` outside its range."""
-    return [text for p in plausible if (text := p.check(getattr(params, p.field, None))) is not None]
+def warnings_for(plausible, params) -> list[tuple[str, str]]:
+    """(field, sentence) for every declared parameter of ``params`` outside its range."""
+    return [(p.field, text) for p in plausible if (text := p.check(getattr(params, p.field, None))) is not None]
 
 
 DENSITY = Plausible(

@@ -380,13 +380,10 @@ def _parse_valid_numbers(raw: dict, base_dir: Path) -> LoadedCase:
 def plausibility_warnings(loaded) -> list[tuple[str, str]]:
     """(JSON path, sentence) for every material parameter outside the range its law declares plausible
     (materials/plausible.py): a value that is valid but looks like a wrong unit."""
-    out = []
-    for name, r in loaded.materials.items():
-        for p in getattr(r.cls, "plausible", ()):
-            text = p.check(getattr(r.params, p.field, None))
-            if text is not None:
-                out.append((f"materials.{name}.{p.field}", text))
-    return out
+    from ..materials.plausible import warnings_for
+
+    return [(f"materials.{name}.{field}", text) for name, r in loaded.materials.items()
+            for field, text in warnings_for(getattr(r.cls, "plausible", ()), r.params)]
 
 
 def ineffective_settings(raw: dict, case: Case) -> list[tuple[str, str]]:
