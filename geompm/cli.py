@@ -488,8 +488,8 @@ def main(argv=None) -> int:
         print("error: refused:" if refused else "error: the case is not valid:", file=sys.stderr)
         for path, msg in exc.problems:
             print(f"  {_one_line(path) or '<case>'}: {_one_line(msg)}", file=sys.stderr)
-        for path, msg in exc.warnings:
-            print(f"warning: {path}: {msg}", file=sys.stderr)
+        for path, msg in exc.warnings:  # indented like the problems: every line after the heading is "  path: ..."
+            print(f"  warning: {path}: {_one_line(msg)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("interrupted; output written so far is kept", file=sys.stderr)
