@@ -42,6 +42,20 @@ def test_artificial_damping_decays_velocity_exponentially():
     assert np.ptp(sim.state.p_v[:, 0]) < 1e-7  # still a rigid translation (round-off only)
 
 
+def test_artificial_damping_reference_cell_size_fixes_the_rate():
+    """With reference_cell_size h_ref, zeta_d = (xi/h_ref) sqrt(E/rho) at any h: the velocity decays as
+    exp(-zeta_d t) with the same zeta_d (0.2 1/s) at h = 0.1 and 0.05 m, where eq. 8 alone would double it."""
+    xi, t_end = 0.002, 1.0
+    zeta = xi / 0.1 * math.sqrt(1.0e5 / 1000.0)
+    for h in (0.1, 0.05):
+        case = _block([{"model": "artificial", "xi": xi, "reference_cell_size": 0.1}])
+        case["grid"]["cell_size"] = h
+        sim = Simulation(scene_from_dict(case))
+        while sim.time < t_end:
+            sim.step(min(sim.stable_dt(), t_end - sim.time))
+        assert sim.state.p_v[:, 0].mean() == pytest.approx(math.exp(-zeta * t_end), rel=1e-6)
+
+
 def test_artificial_damping_selects_materials():
     case = _block([{"model": "artificial", "xi": 0.002, "materials": ["m"]}])
     case["materials"]["other"] = dict(case["materials"]["m"])

@@ -4,9 +4,9 @@
     python benchmarks/seed/inclined_flow.py OUT --summarise RUN_DIR [RUN_DIR ...]
 
 Runs `geompm study cases/inclined_flow.json --vary grid.cell_size=...` into OUT/meshes (one variant at a
-time with every core: the finest mesh dominates), and with --sensitivity a second study at h = 0.01 m of
+time with every core: the finest mesh dominates), and with --sensitivity a second study at h = 0.02 m of
 the parameters the source leaves open (E x 0.5 and x 2 around 0.84 MPa; xi = 0.002, the top of the
-source's 0.001-0.002) into OUT/sensitivity.  Then, from the run folders' series.csv (T_star, X_star,
+source's 0.001-0.002) into OUT/sensitivity_*.  Then, from the run folders' series.csv (T_star, X_star,
 K_star columns of the series writer's `normalise`):
 
 - OUT/inclined_flow.png: X*(T*) and K*(T*) at every mesh in one figure (the source's Figs. 5-6);
@@ -29,8 +29,11 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 CASE = ROOT / "cases" / "inclined_flow.json"
-#: the sensitivity variants: the open parameters, each changed alone at h = 0.01 m
+#: the sensitivity variants: the open parameters, each changed alone at h = SENSITIVITY_H
 SENSITIVITY = ("materials.beads.youngs_modulus=420000,1680000", "damping.0.xi=0.002")
+SENSITIVITY_H = 0.02
+#: the vtu writer's interval in these runs [s] (the shipped case writes every 0.1 s): t = 0, 0.3, ... 1.2 s
+VTU_INTERVAL = "outputs.1.interval=0.3"
 
 
 def study(out: Path, varies: list[str], sets: list[str]) -> float:
@@ -40,7 +43,7 @@ def study(out: Path, varies: list[str], sets: list[str]) -> float:
     from geompm.cli import main
 
     argv = ["study", str(CASE), "--out", str(out), "--workers", "1", "--threads", str(os.cpu_count() or 1),
-            "--resume", "--quiet"]
+            "--resume", "--quiet", "--set", VTU_INTERVAL]
     for v in varies:
         argv += ["--vary", v]
     for s in sets:
@@ -60,7 +63,8 @@ def read(run: Path) -> dict:
     k = int(series["K_star"].argmax())
     return {"run": str(run), "h": float(case["grid"]["cell_size"]),
             "E": float(case["materials"]["beads"]["youngs_modulus"]),
-            "xi": float(case["damping"][0]["xi"]), "particles": status.get("particles"),
+            "xi": float(case["damping"][0]["xi"]), "h_ref": case["damping"][0].get("reference_cell_size"),
+            "particles": status.get("particles"),
             "steps": status.get("steps"), "wall_s": status.get("wall_seconds"),
             "final_T": float(series["T_star"][-1]), "final_X": float(series["X_star"][-1]),
             "K_peak": float(series["K_star"][k]), "T_at_K_peak": float(series["T_star"][k]),
@@ -70,7 +74,7 @@ def read(run: Path) -> dict:
 def summarise(runs: list[Path], out: Path) -> list[dict]:
     from geompm.study.metrics import richardson_order
 
-    rows = sorted((read(r) for r in runs), key=lambda r: (r["E"], r["xi"], -r["h"]))
+    rows = sorted((read(r) for r in runs), key=lambda r: (r["E"], r["xi"], r["h_ref"] or 0.0, -r["h"]))
     out.mkdir(parents=True, exist_ok=True)
     keys = [k for k in rows[0] if k != "series"]
     with open(out / "inclined_flow.csv", "w", newline="") as fh:
@@ -78,9 +82,9 @@ def summarise(runs: list[Path], out: Path) -> list[dict]:
         w.writeheader()
         for r in rows:
             w.writerow({k: r[k] for k in keys})
-    base = [r for r in rows if r["E"] == 840000.0 and r["xi"] == 0.001]
+    base = baseline(rows)
     for r in rows:
-        print(f"h = {r['h']:<6g} E = {r['E']:<8g} xi = {r['xi']:<6g} particles {r['particles']:>7} "
+        print(f"h = {r['h']:<6g} E = {r['E']:<8g} xi = {r['xi']:<6g} h_ref = {r['h_ref'] or '-'} particles {r['particles']:>7} "
               f"steps {r['steps']:>6} wall {r['wall_s']:8.1f} s  final X* {r['final_X']:.4f}  "
               f"K* peak {r['K_peak']:.5f} at T* {r['T_at_K_peak']:.3f}")
     if len(base) >= 2:
@@ -94,6 +98,11 @@ def summarise(runs: list[Path], out: Path) -> list[dict]:
               f"K* peak {richardson_order(hs, [r['K_peak'] for r in base]):.3g} (nan: not monotone)")
     plot(base, out / "inclined_flow.png")
     return rows
+
+
+def baseline(rows: list[dict]) -> list[dict]:
+    """The shipped case's parameters (E = 0.84 MPa, xi = 0.001 at the grid's h), coarsest mesh first."""
+    return [r for r in rows if r["E"] == 840000.0 and r["xi"] == 0.001 and r["h_ref"] is None]
 
 
 def plot(rows: list[dict], png: Path) -> None:
@@ -122,7 +131,7 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("out", type=Path)
     p.add_argument("--h", default="0.02,0.01,0.005", help="cell sizes [m]")
-    p.add_argument("--sensitivity", action="store_true", help="also E x 0.5, x 2 and xi = 0.002 at h = 0.01 m")
+    p.add_argument("--sensitivity", action="store_true", help="also E x 0.5, x 2 and xi = 0.002 at h = 0.02 m")
     p.add_argument("--summarise", nargs="+", type=Path, metavar="RUN_DIR", help="read these runs, run nothing")
     args = p.parse_args()
     if args.summarise:
@@ -133,7 +142,7 @@ def main() -> None:
     if args.sensitivity:
         for v in SENSITIVITY:
             wall += study(args.out / f"sensitivity_{v.split('=')[0].split('.')[-1]}", [v],
-                          ["grid.cell_size=0.01"])
+                          [f"grid.cell_size={SENSITIVITY_H}"])
         runs += sorted(r for d in args.out.glob("sensitivity_*") for r in (d / "runs").iterdir())
     summarise(runs, args.out)
     print(f"wall time of the runs: {wall:.0f} s")
