@@ -2,7 +2,7 @@
 
 Simple shear: L = [[0, g, 0], [0, 0, 0], [0, 0, 0]] gives D'_xy = g/2, so the
 shear rate gamma_dot = sqrt(2 D':D') = g and the shear stress sigma_xy = mu_eff g.
-Formulas: source eqs. (2), (5), (6) (shared/design/seed-models.md); Bingham
+Formulas: source eqs. (2), (5), (6) (docs/source-study.md); Bingham
 regularised after Papanastasiou (1987) J. Rheol. 31:385.
 """
 

@@ -11,11 +11,11 @@ case and cell size h, one float64 and one float32 run; one CSV row each:
   crossings of the centre-of-mass velocity over 3 periods (as tests/test_elastic_bar.py); the
   reference is the closed form 4 L / c = 10 s.
 - dambreak: cases/dam_break.json to t = 0.25 s (T = t sqrt(2g/a) = 3.5), the surge front Z = x_max/a;
-  the reference is Martin & Moyce (1952), a = 2.25 in, n^2 = 2 (shared/refdata), largest relative
+  the reference is Martin & Moyce (1952), a = 2.25 in, n^2 = 2 (tests/refdata), largest relative
   error for T <= 3; also the largest |Z32 - Z64| over the run.
 - column: cases/column_collapse.json (DP, a = 0.5, L0 = 0.2 m) to t = 0.8 s, the deposit front
   (geompm.study.deposit, thickness threshold 0.05 H0, sampled every 0.01 H0) as (L - L0)/L0; the
-  reference is Lube et al. (2005), 1.2 a = 0.60 (shared/refdata/granular_collapse_scaling_laws.csv).
+  reference is Lube et al. (2005), 1.2 a = 0.60 (tests/refdata/granular_collapse_scaling_laws.csv).
 """
 
 from __future__ import annotations

@@ -13,7 +13,7 @@ a CUDA kernel, one thread per particle or node:
   Python, and a CPU dispatcher cannot take the simulator's array wrappers:
   the kernel calls it through ``simulator_call``, which hands it the numpy
   arrays underneath, so the compiled CPU function runs inside the simulated
-  kernel (shared/design/field-notes.md).
+  kernel.
 
 A thread's ``work`` scratch and ``out`` accumulator are local arrays whose
 sizes are compiled into the kernel (the stage's ``node_scratch`` and
