@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .assemble import Scene, assemble
-from .schema.load import apply_overrides, load_case, parse_case
+from geompm.assemble import Scene, assemble
+from geompm.schema.load import apply_overrides, load_case, parse_case
 
 
 def scene_from_file(path: str | Path, sets=()) -> Scene:

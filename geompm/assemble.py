@@ -11,14 +11,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .engine.grid import GridSpec
-from .engine.state import ParticleState
-from .errors import CaseError
-from .geometry import overlap_problems, seed_body
-from .kernels.overburden import column_overburden
-from .kernels.shape import APIC_D_FACTOR, KIND
-from .schema.case import RunSpec
-from .schema.load import LoadedCase
+from geompm.engine.grid import GridSpec
+from geompm.engine.state import ParticleState
+from geompm.errors import CaseError
+from geompm.geometry import overlap_problems, seed_body
+from geompm.kernels.overburden import column_overburden
+from geompm.kernels.shape import APIC_D_FACTOR, KIND
+from geompm.schema.case import RunSpec
+from geompm.schema.load import LoadedCase
 
 
 @dataclass
@@ -242,7 +242,7 @@ def _check_bodies_clear(scene: Scene) -> None:
 def _check_output_intervals(scene: Scene, outputs) -> None:
     """An output interval shorter than the first time step would force every step to be shortened; the
     refusal first says which limit sets that step and why it is so large (step_explanation)."""
-    from .engine.timestep import stable_dt
+    from geompm.engine.timestep import stable_dt
 
     dt = stable_dt(scene, scene.state)
     short = [k for k, o in enumerate(outputs) if 0.0 < o.interval < dt]
@@ -258,7 +258,7 @@ def _check_output_intervals(scene: Scene, outputs) -> None:
 def step_explanation(scene: Scene) -> str:
     """Which limit sets the first time step and what sets that limit: the fastest material's wave speed
     (with its stiffness and density) or the most viscous material's viscosity."""
-    from .engine.estimate import step_report
+    from geompm.engine.estimate import step_report
 
     if scene.dt_fixed is not None:
         return f"the time step is fixed by time.dt = {scene.dt_fixed:g} s"
@@ -280,7 +280,7 @@ def step_explanation(scene: Scene) -> str:
 
 def fixed_step_problem(scene: Scene) -> tuple[str, str] | None:
     """A fixed time.dt above the stable step of the first step (wave and viscous limits): (path, message)."""
-    from .engine.timestep import viscous_limit, wave_limit
+    from geompm.engine.timestep import viscous_limit, wave_limit
 
     if scene.dt_fixed is None:
         return None

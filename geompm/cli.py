@@ -13,14 +13,14 @@ import signal
 import sys
 from pathlib import Path
 
-from . import __version__, registry
-from .errors import CaseError, SimulationError
-from .fileio import atomic_write_json, atomic_write_text
-from .ownership import create_folder, mark_folder, marked_kind, may_write, owned_kind, remove_tree
-from .bench.command import add_parser as bench_parser
-from .cuda_check import add_parser as cuda_check_parser
-from .study.calibrate import add_parser as calibrate_parser
-from .study.command import add_parser as study_parser
+from geompm import __version__, registry
+from geompm.errors import CaseError, SimulationError
+from geompm.fileio import atomic_write_json, atomic_write_text
+from geompm.ownership import create_folder, mark_folder, marked_kind, may_write, owned_kind, remove_tree
+from geompm.bench.command import add_parser as bench_parser
+from geompm.cuda_check import add_parser as cuda_check_parser
+from geompm.study.calibrate import add_parser as calibrate_parser
+from geompm.study.command import add_parser as study_parser
 
 log = logging.getLogger("geompm")
 
@@ -40,8 +40,8 @@ def _setup_logging(run_dir: Path | None = None, quiet: bool = False):
 
 
 def _load(args):
-    from .assemble import assemble
-    from .schema import load_case
+    from geompm.assemble import assemble
+    from geompm.schema import load_case
 
     loaded = load_case(args.case, getattr(args, "set", None) or [])
     try:
@@ -53,8 +53,8 @@ def _load(args):
 
 def _estimate(scene) -> tuple[float, int, float]:
     """(bytes of memory, active grid nodes, first time step [s])."""
-    from .engine.timestep import stable_dt
-    from .resources import grid_bytes, window_nodes
+    from geompm.engine.timestep import stable_dt
+    from geompm.resources import grid_bytes, window_nodes
 
     st = scene.state
     nodes = window_nodes(st.p_x.min(axis=0), st.p_x.max(axis=0), scene.grid.h)
@@ -62,7 +62,7 @@ def _estimate(scene) -> tuple[float, int, float]:
 
 
 def cmd_validate(args) -> int:
-    from .assemble import fixed_step_problem
+    from geompm.assemble import fixed_step_problem
 
     loaded, scene = _load(args)
     problem = fixed_step_problem(scene)
@@ -87,7 +87,7 @@ def cmd_validate(args) -> int:
 def _step_limits(scene) -> None:
     """Which limit sets the step, and what each material's other integration would make of it (the
     viscous warning repeats those when viscosity governs)."""
-    from .engine.estimate import step_report
+    from geompm.engine.estimate import step_report
 
     if scene.dt_fixed is not None:
         print(f"the time step is fixed: time.dt = {scene.dt_fixed:g} s")
@@ -112,10 +112,10 @@ def _stage_warnings(scene, emit, loaded=None) -> None:
 
 def _viscous_warning(loaded, scene, emit) -> None:
     """Say so when viscosity sets the time step: the step, the steps, a measured run time, the remedies."""
-    from .assemble import assemble
-    from .engine.estimate import viscous_report
+    from geompm.assemble import assemble
+    from geompm.engine.estimate import viscous_report
 
-    from .engine.timestep import stable_dt
+    from geompm.engine.timestep import stable_dt
 
     if not stable_dt(scene, scene.state) >= scene.dt_min:
         return  # the dt_min check speaks for this case (validate warns, run stops with exit 3)
@@ -179,7 +179,7 @@ def _run_folder(args, loaded, scene) -> Path:
 def _write_status(run_dir: Path, scene, runner, summary, finished: bool, reason: str = "") -> None:
     import numba
 
-    from .resources import peak_rss
+    from geompm.resources import peak_rss
 
     sim = runner.sim
     status = {
@@ -228,10 +228,10 @@ def _saved_end_time(args) -> float | None:
 
 
 def cmd_run(args) -> int:
-    from .assemble import fixed_step_problem as _fixed_step_problem
-    from .engine.runner import Interrupted, Runner
-    from .engine.scheduler import Simulation
-    from .writers.series import SeriesWriter
+    from geompm.assemble import fixed_step_problem as _fixed_step_problem
+    from geompm.engine.runner import Interrupted, Runner
+    from geompm.engine.scheduler import Simulation
+    from geompm.writers.series import SeriesWriter
 
     saved_end = _saved_end_time(args) if args.resume else None
     loaded, scene = _load(args)
@@ -243,7 +243,7 @@ def cmd_run(args) -> int:
         writers.insert(0, SeriesWriter(SeriesWriter.Params(), 0.0))
     nchunks = None
     if args.resume:
-        from .engine import checkpoint
+        from geompm.engine import checkpoint
 
         nchunks = checkpoint.read_meta(run_dir)["nchunks"]
     sim = Simulation(scene, nchunks=nchunks)
@@ -315,7 +315,7 @@ def _hot_spot(stage) -> dict:
 
 
 def cmd_info(args) -> int:
-    from .engine import checkpoint
+    from geompm.engine import checkpoint
 
     run_dir = _run_dir_arg(args.run_dir)
     case = json.loads((run_dir / "case.json").read_text())
@@ -363,7 +363,7 @@ def cmd_info(args) -> int:
 def _print_runout(run_dir: Path, case: dict) -> None:
     """The runout at the last series row: each body's front (and each material's) with where it started;
     the slide is the body whose front moved furthest, not the ground it rests on."""
-    from .study.metrics import body_fronts, moving_front, read_series
+    from geompm.study.metrics import body_fronts, moving_front, read_series
 
     series = read_series(run_dir / "series.csv")
     moving = moving_front(series)
@@ -382,7 +382,7 @@ def _print_runout(run_dir: Path, case: dict) -> None:
 
 
 def cmd_plot(args) -> int:
-    from .plotting import PNG_NAMES
+    from geompm.plotting import PNG_NAMES
 
     run_dir = _run_dir_arg(args.run_dir)
     out = Path(args.output) if args.output else run_dir / "plots"
@@ -391,7 +391,7 @@ def cmd_plot(args) -> int:
         raise CaseError([("--output", f"{taken[0]} exists and geompm did not make it; it is not overwritten. "
                                       "Choose another -o folder")])
     try:
-        from .plotting import plot_run
+        from geompm.plotting import plot_run
 
         made = plot_run(run_dir, args.output)
     except ImportError as exc:
@@ -403,7 +403,7 @@ def cmd_plot(args) -> int:
 
 
 def cmd_plugins(args) -> int:
-    from .schema.load import BACKEND_KINDS
+    from geompm.schema.load import BACKEND_KINDS
 
     for kind in registry.GROUPS:
         plugins = registry.available(kind)
@@ -416,7 +416,7 @@ def cmd_plugins(args) -> int:
 
 
 def cmd_schema(args) -> int:
-    from .schema.export import case_json_schema
+    from geompm.schema.export import case_json_schema
 
     schema = case_json_schema(built_in_only=args.built_in)
     text = json.dumps(schema, indent=2) + "\n"

@@ -24,7 +24,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from .errors import CaseError
+from geompm.errors import CaseError
 
 
 def add_parser(sub) -> None:
@@ -40,9 +40,9 @@ def add_parser(sub) -> None:
 
 
 def cmd_cuda_check(args) -> int:
-    from .backend.cuda_loops import simulated
-    from .backend.cuda_ptx import nvvm_missing
-    from .schema import load_case
+    from geompm.backend.cuda_loops import simulated
+    from geompm.backend.cuda_ptx import nvvm_missing
+    from geompm.schema import load_case
 
     if simulated():
         raise CaseError([("--", "unset NUMBA_ENABLE_CUDASIM: compiling needs numba-cuda's compiler, not its "
@@ -71,7 +71,7 @@ def cmd_cuda_check(args) -> int:
             if line.startswith("note: "):
                 print(line, file=sys.stderr)
         recorded = json.loads(launches.read_text())
-    from .backend.cuda_ptx import compile_launches, find_ptxas
+    from geompm.backend.cuda_ptx import compile_launches, find_ptxas
 
     ptxas = find_ptxas()
     results = compile_launches(recorded, cc, ptxas)
@@ -97,11 +97,11 @@ def _record(out: str, case: str, steps: str, *sets: str) -> int:
     """The recording subprocess (simulator on): ``steps`` steps of the case on the cuda backend.  A plugin
     that does not declare the cuda backend yet is checked as if it did (this check is what an author runs
     before declaring it), with a note."""
-    from . import registry
-    from .api import scene_from_file
-    from .backend.cuda_ptx import record
-    from .engine.scheduler import Simulation
-    from .schema.load import BACKEND_KINDS
+    from geompm import registry
+    from geompm.api import scene_from_file
+    from geompm.backend.cuda_ptx import record
+    from geompm.engine.scheduler import Simulation
+    from geompm.schema.load import BACKEND_KINDS
 
     for kind in BACKEND_KINDS:
         for name, info in registry.available(kind).items():

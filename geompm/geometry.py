@@ -12,9 +12,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import CaseError
-from .fileio import case_relative
-from .resources import require_memory
+from geompm.errors import CaseError
+from geompm.fileio import case_relative
+from geompm.resources import require_memory
 
 #: body geometries built from GIS files (release.py)
 RELEASE_TYPES = ("release_polygon", "release_raster", "between_surfaces")
@@ -127,7 +127,7 @@ def body_region(geom, dim, base_dir: Path, json_path: str, grid=None):
         return (np.r_[lo, z0], np.r_[hi, z1],
                 lambda pts: points_in_polygon(pts[:, :2], verts) & (pts[:, 2] > z0) & (pts[:, 2] < z1))
     if geom.type in RELEASE_TYPES:
-        from .release import release_region
+        from geompm.release import release_region
 
         return release_region(geom, base_dir, json_path)
     mesh = load_surface_mesh(case_relative(base_dir, geom.file), geom.scale, geom.translate, json_path + ".file")

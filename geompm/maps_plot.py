@@ -34,7 +34,7 @@ def plot_maps(run_dir: str | Path, out: Path) -> list[Path]:
     import rasterio
     from mpl_toolkits.axes_grid1.anchored_artists import AnchoredSizeBar
 
-    from .plotting import _pyplot, _save
+    from geompm.plotting import _pyplot, _save
 
     plt = _pyplot()
     maps = Path(run_dir) / "maps"

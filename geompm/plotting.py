@@ -141,8 +141,8 @@ def _rigid_surfaces(run_dir: Path) -> list:
     case cannot be rebuilt here (a moved run folder whose case refers to files no longer beside it)."""
     import json
 
-    from .api import scene_from_dict
-    from .errors import CaseError
+    from geompm.api import scene_from_dict
+    from geompm.errors import CaseError
 
     try:
         scene = scene_from_dict(json.loads((run_dir / "case.json").read_text()), run_dir)
@@ -159,7 +159,7 @@ def _rigid_surfaces(run_dir: Path) -> list:
 def plot_run(run_dir: str | Path, out_dir: str | Path | None = None) -> list[Path]:
     """PNGs of a run folder: series, obstacle forces, the 2D deposit at the last saved state, and the
     hazard maps over a hillshade when the run wrote them (maps_plot.py)."""
-    from .engine import checkpoint
+    from geompm.engine import checkpoint
 
     import json
 
@@ -183,10 +183,10 @@ def plot_run(run_dir: str | Path, out_dir: str | Path | None = None) -> list[Pat
                                      f"{run_dir.name}: particles at t = {meta['time']:.4g} s", names,
                                      _rigid_surfaces(run_dir)))
     if (run_dir / "maps" / "summary.json").is_file():
-        from .maps_plot import plot_maps
+        from geompm.maps_plot import plot_maps
 
         made += plot_maps(run_dir, out)
-    from .pressure_plot import PNG_NAME, plot_pressures
+    from geompm.pressure_plot import PNG_NAME, plot_pressures
 
     pressure = plot_pressures(run_dir, out / PNG_NAME, run_dir.name)
     return made + ([pressure] if pressure is not None else [])

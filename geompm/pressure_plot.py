@@ -37,7 +37,7 @@ def plot_pressures(run_dir: Path, png: Path, title: str = "") -> Path | None:
     """The picture, or None if no surface carries pressures."""
     import meshio
 
-    from .plotting import _pyplot, _save
+    from geompm.plotting import _pyplot, _save
 
     loaded = []
     for f in last_surfaces(run_dir):

@@ -17,7 +17,7 @@ import warnings
 from dataclasses import dataclass
 from importlib.metadata import entry_points
 
-from .errors import CaseError
+from geompm.errors import CaseError
 
 GROUPS = {
     "materials": "geompm.materials",

@@ -24,13 +24,13 @@ import json
 
 import numpy as np
 
-from .errors import CaseError
-from .fileio import case_relative, unreadable_file
-from .geometry import points_in_polygon
+from geompm.errors import CaseError
+from geompm.fileio import case_relative, unreadable_file
+from geompm.geometry import points_in_polygon
 
 
 def _raster(base_dir, name, where, nodata_as=None):
-    from .obstacles.dem import read_dem
+    from geompm.obstacles.dem import read_dem
 
     path = case_relative(base_dir, name)
     problem = unreadable_file(path, name)

@@ -54,7 +54,7 @@ _UNITS = {"": 1, "K": 2**10, "M": 2**20, "G": 2**30, "T": 2**40}
 def memory_cap() -> tuple[int | None, str]:
     """(bytes one case may plan for, where that figure comes from): GEOMPM_MAX_MEMORY if set and below
     the available memory, else the available memory; None if neither is known."""
-    from .errors import CaseError
+    from geompm.errors import CaseError
 
     have = available_memory()
     text = os.environ.get(MEMORY_ENV, "").strip().upper().removesuffix("B").removesuffix("I")
@@ -74,7 +74,7 @@ def memory_cap() -> tuple[int | None, str]:
 def require_memory(nbytes: float, json_path: str, what: str, remedy: str) -> None:
     """Refuse (CaseError, exit 2) an allocation sized from the case before it is made, when it would need
     more than memory_cap(): the JSON path, the gigabytes, and what to change."""
-    from .errors import CaseError
+    from geompm.errors import CaseError
 
     cap, source = memory_cap()
     if cap is not None and nbytes > cap:

@@ -28,7 +28,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from .plugin import Plugin
+from geompm.plugin import Plugin
 
 #: stage phases, in the order they run each step (stable within a phase: the case's order).  Node
 #: merging (periodic folding) first, then damping; boundaries and obstacles have the last word on

@@ -8,15 +8,15 @@ times they run.  ``cpu`` (numba, every core) and ``cuda`` (numba-cuda, backend/c
 optional extra ``geompm[cuda]``, imported only when a case asks for it).
 """
 
-from .base import Backend
-from .cpu import CpuBackend
+from geompm.backend.base import Backend
+from geompm.backend.cpu import CpuBackend
 
 BACKENDS: dict[str, type[Backend]] = {CpuBackend.name: CpuBackend}
 
 
 def make_backend(scene, split_force: bool, nchunks: int | None = None) -> Backend:
     if scene.backend == "cuda" and "cuda" not in BACKENDS:  # numba-cuda is an optional extra: imported on use
-        from .cuda import CudaBackend
+        from geompm.backend.cuda import CudaBackend
 
         BACKENDS["cuda"] = CudaBackend
     return BACKENDS[scene.backend](scene, split_force, nchunks)

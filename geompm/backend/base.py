@@ -33,7 +33,7 @@ class Backend:
     def stable_dt(self) -> float:
         """The next step [s] (engine/timestep.py) from the particles' speeds, densities and the last
         stress update's largest |L_ii|; a device backend overrides it with its own reductions."""
-        from ..engine.timestep import stable_dt
+        from geompm.engine.timestep import stable_dt
 
         return stable_dt(self.scene, self.host_state(), self.max_rate)
 

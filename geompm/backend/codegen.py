@@ -48,7 +48,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from ..fileio import user_mode
+from geompm.fileio import user_mode
 
 HEADER = "# geompm generated kernel loop: do not edit (geompm/backend/codegen.py)\n"
 

@@ -14,15 +14,15 @@ import math
 
 import numpy as np
 
-from ..engine.grid import GridBuffers
-from ..kernels.grid_update import grid_update, grid_update_folded, momentum_to_velocity
-from ..kernels.stencil import scheme_tag, stencil_tag
-from ..kernels.transfer2d import g2p_2d, p2g_2d
-from ..kernels.transfer3d import g2p_3d, p2g_3d
-from ..stages import FAR_NODE, GridStage, ParticleStage
-from .base import Backend
-from .cpu_loops import block_loops
-from .cpu_stage_loops import merge_loop, node_loop, particle_loop
+from geompm.engine.grid import GridBuffers
+from geompm.kernels.grid_update import grid_update, grid_update_folded, momentum_to_velocity
+from geompm.kernels.stencil import scheme_tag, stencil_tag
+from geompm.kernels.transfer2d import g2p_2d, p2g_2d
+from geompm.kernels.transfer3d import g2p_3d, p2g_3d
+from geompm.stages import FAR_NODE, GridStage, ParticleStage
+from geompm.backend.base import Backend
+from geompm.backend.cpu_loops import block_loops
+from geompm.backend.cpu_stage_loops import merge_loop, node_loop, particle_loop
 
 #: the transfer kernels of each dimension
 TRANSFERS = {2: (p2g_2d, g2p_2d), 3: (p2g_3d, g2p_3d)}

@@ -29,7 +29,7 @@ flags, and the loops are written as a module per law so numba caches them
 
 from __future__ import annotations
 
-from .codegen import loops
+from geompm.backend.codegen import loops
 
 #: the loops over a block, around ``law_stress`` and ``law_wave`` (the law's functions, inlined)
 BODY = '''

@@ -21,7 +21,7 @@ two ghosts of one window from sharing an image).
 
 from __future__ import annotations
 
-from .codegen import loops
+from geompm.backend.codegen import loops
 
 NODE_BODY = '''
 @njit(parallel=True, cache=True)

@@ -33,15 +33,15 @@ from __future__ import annotations
 import numpy as np
 from numba import cuda
 
-from ..engine.grid import GridView, window_extent
-from ..engine.timestep import step_limit
-from ..kernels.reduce import cells_of_bounds, max_rate
-from ..kernels.shape import support
-from ..kernels.stencil import SCHEMES
-from ..stages import FAR_NODE
-from . import cuda_kernels as K
-from . import cuda_loops, cuda_sort
-from .base import Backend
+from geompm.engine.grid import GridView, window_extent
+from geompm.engine.timestep import step_limit
+from geompm.kernels.reduce import cells_of_bounds, max_rate
+from geompm.kernels.shape import support
+from geompm.kernels.stencil import SCHEMES
+from geompm.stages import FAR_NODE
+from geompm.backend import cuda_kernels as K
+from geompm.backend import cuda_loops, cuda_sort
+from geompm.backend.base import Backend
 
 #: the particle arrays that live on the device
 DEVICE_ARRAYS = ("p_x", "p_x0", "p_v", "p_C", "p_mass", "p_vol", "p_rho", "p_stress", "p_L")

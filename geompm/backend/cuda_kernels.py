@@ -23,9 +23,9 @@ import math
 
 from numba import cuda, float64, int64
 
-from ..kernels.shape import axis_stencil
-from ..kernels.volume import update_volume
-from .cuda_loops import simulated, simulator_call
+from geompm.kernels.shape import axis_stencil
+from geompm.kernels.volume import update_volume
+from geompm.backend.cuda_loops import simulated, simulator_call
 
 #: threads per block of every launch (the simulator runs each thread as a Python thread: fewer there)
 THREADS = 32 if simulated() else 128

@@ -160,7 +160,7 @@ def particle_kernel(rule, scratch: int, slots: int, maxima=()):
 def merge_kernel(image):
     """Around cpu_stage_loops.MERGE_NODE, the CPU pass's own per-node body (an @njit function that calls
     ``node_image`` itself: under the simulator that function, not the image, is the one unwrapped)."""
-    from .cpu_stage_loops import MERGE_NODE
+    from geompm.backend.cpu_stage_loops import MERGE_NODE
 
     key = ("merge", image)
     if key not in _CACHE:

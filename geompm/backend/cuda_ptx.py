@@ -131,7 +131,7 @@ def offline(cc: tuple) -> None:
 
 def rebuild(ref: dict):
     """The kernel (a numba-cuda dispatcher) that a recorded reference names."""
-    from . import cuda_loops
+    from geompm.backend import cuda_loops
 
     if "kernel" in ref:
         return resolve(ref["kernel"])

@@ -33,8 +33,8 @@ import math
 import numpy as np
 from numba import cuda, int64
 
-from .cuda_kernels import THREADS, blocks
-from .cuda_loops import simulated
+from geompm.backend.cuda_kernels import THREADS, blocks
+from geompm.backend.cuda_loops import simulated
 
 #: entries per block of the prefix sum (one per thread; the simulator runs each thread as a Python thread)
 SCAN = 32 if simulated() else 512

@@ -30,7 +30,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from ..errors import CaseError
+from geompm.errors import CaseError
 
 SPREAD_LIMIT = 0.25
 DOMAIN_LIMIT = 0.20
@@ -195,7 +195,7 @@ def cmd_bench(args) -> int:
             print(json.dumps(r) if args.json else row(label, r), flush=True)
         notes += check_lines(name, spec, results)
     if not args.no_bandwidth:
-        from .stream import triad_bandwidth
+        from geompm.bench.stream import triad_bandwidth
 
         bw = triad_bandwidth()
         notes.append(f"memory bandwidth (STREAM triad, {_threads()} threads): {bw / 1e9:.1f} GB/s")

@@ -56,10 +56,10 @@ def measure(case: str, steps: int, sets: list[str], permute: bool = False) -> di
     import numba
     import numpy as np
 
-    from ..api import scene_from_file
-    from ..engine.runner import Runner
-    from ..engine.scheduler import Simulation
-    from ..resources import peak_rss
+    from geompm.api import scene_from_file
+    from geompm.engine.runner import Runner
+    from geompm.engine.scheduler import Simulation
+    from geompm.resources import peak_rss
 
     t_load = time.perf_counter()
     scene = scene_from_file(case, sets)

@@ -13,9 +13,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..layout import pack_in_layout, param_layout
-from ..stages import NO_AUX, GridStage, ParticleStage
-from .contact import CONDITIONS, ON_SURFACE, apply_condition
+from geompm.layout import pack_in_layout, param_layout
+from geompm.stages import NO_AUX, GridStage, ParticleStage
+from geompm.boundaries.contact import CONDITIONS, ON_SURFACE, apply_condition
 
 #: packed parameters: a point on the surface [m] and the unit normal into the material (3 slots each,
 #: 2D uses the first two), the contact condition (contact.CONDITIONS), the Coulomb coefficient [-],
@@ -79,7 +79,7 @@ class HalfSpace(GridStage, ParticleStage):
 
     def surface(self):
         """The plane clipped to the grid's box (a segment in 2D)."""
-        from ..obstacles.tessellate import plane_surface
+        from geompm.obstacles.tessellate import plane_surface
 
         g = self.grid
         return plane_surface(self.point, self.normal, g.origin, g.upper, g.h)

@@ -20,9 +20,9 @@ from typing import Literal
 from numba import njit
 from pydantic import Field
 
-from ..layout import pack_in_layout, param_layout
-from ..plugin import Params
-from ..stages import MERGE, NO_AUX, GridStage, ParticleStage
+from geompm.layout import pack_in_layout, param_layout
+from geompm.plugin import Params
+from geompm.stages import MERGE, NO_AUX, GridStage, ParticleStage
 
 #: packed parameters: the periodic axis, its cell count, the grid's lower coordinate on it [m], the period [m]
 PERIODIC = param_layout("axis", "ncells", "lo_x", "period")

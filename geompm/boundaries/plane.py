@@ -24,8 +24,8 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, field_validator
 
-from ..plugin import Params, vector_length_problems
-from .halfspace import HalfSpace
+from geompm.plugin import Params, vector_length_problems
+from geompm.boundaries.halfspace import HalfSpace
 
 
 class PlaneParams(Params):

@@ -17,9 +17,9 @@ from typing import Literal
 import numpy as np
 from pydantic import Field
 
-from ..plugin import Params
-from ..stages import FAR_NODE
-from .halfspace import HalfSpace
+from geompm.plugin import Params
+from geompm.stages import FAR_NODE
+from geompm.boundaries.halfspace import HalfSpace
 
 SIDES = ("x-", "x+", "y-", "y+", "z-", "z+")
 

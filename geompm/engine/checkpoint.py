@@ -17,10 +17,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import __version__
-from ..errors import CaseError
-from ..fileio import atomic_path
-from ..ownership import remove_file
+from geompm import __version__
+from geompm.errors import CaseError
+from geompm.fileio import atomic_path
+from geompm.ownership import remove_file
 
 FOLDER = "checkpoints"
 

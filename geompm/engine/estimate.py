@@ -17,7 +17,7 @@ import math
 import time
 from dataclasses import dataclass, field
 
-from ..errors import SimulationError
+from geompm.errors import SimulationError
 
 
 @dataclass
@@ -92,7 +92,7 @@ def _duration(seconds: float) -> str:
 
 def step_report(scene) -> StepReport:
     """The first step's limits, and what each material's other integration would make of them."""
-    from .timestep import viscous_limit, wave_limit
+    from geompm.engine.timestep import viscous_limit, wave_limit
 
     st = scene.state
     dt_wave, dt_visc = wave_limit(scene, st), viscous_limit(scene)
@@ -110,7 +110,7 @@ def step_report(scene) -> StepReport:
 
 def measure_step_seconds(scene_factory, steps: int = 20) -> float:
     """Wall seconds per step of a fresh copy of the scene (after two warm-up steps that load the kernels)."""
-    from .scheduler import Simulation
+    from geompm.engine.scheduler import Simulation
 
     sim = Simulation(scene_factory())
     for _ in range(2):

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from ..errors import SimulationError
-from ..kernels.reduce import cell_bounds, first_outside
+from geompm.errors import SimulationError
+from geompm.kernels.reduce import cell_bounds, first_outside
 
 
 @dataclass

@@ -27,8 +27,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..errors import SimulationError
-from .timestep import viscous_limit, wave_speed
+from geompm.errors import SimulationError
+from geompm.engine.timestep import viscous_limit, wave_speed
 
 
 @njit(parallel=True, cache=True)

@@ -17,9 +17,9 @@ import math
 import time as wallclock
 from dataclasses import dataclass
 
-from . import checkpoint
-from .health import HealthCheck, check_domain
-from .scheduler import Simulation
+from geompm.engine import checkpoint
+from geompm.engine.health import HealthCheck, check_domain
+from geompm.engine.scheduler import Simulation
 
 log = logging.getLogger("geompm")
 

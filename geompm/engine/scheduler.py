@@ -23,9 +23,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..backend import make_backend
-from ..kernels.reduce import kinetic_energy, max_coordinate, max_coordinate_by_group
-from ..stages import GridStage, ParticleStage
+from geompm.backend import make_backend
+from geompm.kernels.reduce import kinetic_energy, max_coordinate, max_coordinate_by_group
+from geompm.stages import GridStage, ParticleStage
 
 
 class Simulation:

@@ -90,7 +90,7 @@ class ParticleState:
 
     def sort_by_cell(self, origin, h) -> None:
         """Re-order every material block by grid cell (kernels/sort.py); blocks keep their extent."""
-        from ..kernels.sort import cell_order
+        from geompm.kernels.sort import cell_order
 
         if self.n == 0:
             return
@@ -100,7 +100,7 @@ class ParticleState:
         """Put particle perm[k] at row k, for a permutation that keeps every index inside its material
         block (the sort, the benchmark's shuffle).  ``skip`` names arrays left as they are and
         ``states=False`` leaves the state variables (a backend that holds and sorts them itself)."""
-        from ..kernels.sort import SLAB, permute_in_place
+        from geompm.kernels.sort import SLAB, permute_in_place
 
         perm = np.ascontiguousarray(perm, dtype=np.int64)
         # in place: every array keeps its identity, so a view or reference held across steps (a probe's

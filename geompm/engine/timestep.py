@@ -23,7 +23,7 @@ limit dt <= rho h^2 / (2 d mu).  A fixed ``time.dt`` replaces all of this.
 
 from __future__ import annotations
 
-from ..kernels.reduce import max_rate, max_speed
+from geompm.kernels.reduce import max_rate, max_speed
 
 #: the largest stretching increment dt |L_ii| a step may take [-] (module docstring)
 STRAIN_INCREMENT = 0.25

@@ -12,7 +12,7 @@ argument, keeps the kernels in numba's on-disk cache.
 
 from numba import njit
 
-from .shape import axis_stencil, support
+from geompm.kernels.shape import axis_stencil, support
 
 __all__ = ["SCHEMES", "axis_stencil", "mls_derivatives", "scheme_tag", "stencil_tag"]
 

@@ -19,9 +19,9 @@ force through grad w ~ D^-1 w (x_i - x_p) and L = C.
 import numpy as np
 from numba import njit, prange
 
-from .chunks import sum_interleaved, zero_rows
-from .stencil import axis_stencil, mls_derivatives
-from .volume import update_volume
+from geompm.kernels.chunks import sum_interleaved, zero_rows
+from geompm.kernels.stencil import axis_stencil, mls_derivatives
+from geompm.kernels.volume import update_volume
 
 
 @njit(parallel=True, fastmath=True, cache=True)

@@ -35,9 +35,9 @@ from typing import ClassVar
 import numpy as np
 from pydantic import Field
 
-from ..plugin import Params, Plugin
-from ..layout import pack_in_layout, param_layout
-from .plausible import DENSITY
+from geompm.plugin import Params, Plugin
+from geompm.layout import pack_in_layout, param_layout
+from geompm.materials.plausible import DENSITY
 
 
 class MaterialParams(Params):
@@ -109,12 +109,12 @@ class Material(Plugin):
     def update_stress(self, dt, p_L, p_rho, p_stress, p_state) -> float:
         """Advance the stress of a block of particles in place, through the backend's loop (the one
         the engine runs); returns the block's largest stretching rate |L_ii| [1/s]."""
-        from ..backend.cpu_loops import block_loops
+        from geompm.backend.cpu_loops import block_loops
 
         return float(block_loops(type(self))[0](self.prm, dt, p_L, p_rho, p_stress, p_state))
 
     def wave_speed(self, p_rho) -> float:
         """Largest wave speed [m/s] over a block of particles with densities ``p_rho``."""
-        from ..backend.cpu_loops import block_loops
+        from geompm.backend.cpu_loops import block_loops
 
         return float(block_loops(type(self))[1](self.prm, p_rho))

@@ -22,9 +22,9 @@ import math
 from numba import njit
 from pydantic import Field
 
-from .fluid import evp_yield_stress, set_fluid_stress, shear_rate
-from ..layout import param_layout
-from .tait import EOS, YieldFluid, YieldFluidParams, eos_pressure
+from geompm.materials.fluid import evp_yield_stress, set_fluid_stress, shear_rate
+from geompm.layout import param_layout
+from geompm.materials.tait import EOS, YieldFluid, YieldFluidParams, eos_pressure
 
 #: packed parameters: EOS, mu_B [Pa s], tau_B [Pa], M [s]
 BINGHAM = param_layout(EOS, "viscosity", "yield_stress", "regularisation_time")

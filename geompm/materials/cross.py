@@ -24,10 +24,10 @@ import math
 from numba import njit
 from pydantic import Field, model_validator
 
-from ..plugin import Params
-from .fluid import equivalent_shear, evp_trial, set_fluid_stress, set_scaled_trial, shear_rate
-from ..layout import param_layout
-from .tait import EOS, YieldFluid, YieldFluidParams, eos_pressure
+from geompm.plugin import Params
+from geompm.materials.fluid import equivalent_shear, evp_trial, set_fluid_stress, set_scaled_trial, shear_rate
+from geompm.layout import param_layout
+from geompm.materials.tait import EOS, YieldFluid, YieldFluidParams, eos_pressure
 
 #: packed parameters: EOS, mu_0 and mu_inf [Pa s], A [s], m [-]
 CROSS = param_layout(EOS, "viscosity_zero", "viscosity_infinity", "time_constant", "rate_exponent")

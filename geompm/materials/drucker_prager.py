@@ -49,8 +49,8 @@ import numpy as np
 from numba import njit
 from pydantic import Field, model_validator
 
-from ..layout import param_layout
-from .plasticity import (ELASTIC, ElastoplasticParams, FrictionalMaterial, current_moduli, kirchhoff_trial,
+from geompm.layout import param_layout
+from geompm.materials.plasticity import (ELASTIC, ElastoplasticParams, FrictionalMaterial, current_moduli, kirchhoff_trial,
                          set_scaled_deviator, sqrt_j2)
 
 SQ3 = math.sqrt(3.0)

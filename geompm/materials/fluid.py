@@ -12,7 +12,7 @@ import math
 
 from numba import njit
 
-from ..kernels.voigt import jaumann_increment
+from geompm.kernels.voigt import jaumann_increment
 
 
 @njit(cache=True, inline="always")

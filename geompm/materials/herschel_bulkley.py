@@ -27,9 +27,9 @@ import math
 from numba import njit
 from pydantic import Field, model_validator
 
-from ..layout import param_layout
-from .fluid import evp_yield_stress, set_fluid_stress, shear_rate
-from .tait import EOS, YieldFluid, YieldFluidParams, eos_pressure
+from geompm.layout import param_layout
+from geompm.materials.fluid import evp_yield_stress, set_fluid_stress, shear_rate
+from geompm.materials.tait import EOS, YieldFluid, YieldFluidParams, eos_pressure
 
 #: packed parameters: EOS, K [Pa s^n], n [-], tau_y [Pa], M [s], mu_max [Pa s] (inf: no cap)
 HB = param_layout(EOS, "consistency", "flow_index", "yield_stress", "regularisation_time", "max_viscosity")

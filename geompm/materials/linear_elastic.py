@@ -16,9 +16,9 @@ from __future__ import annotations
 from numba import njit
 from pydantic import Field
 
-from .base import Material, MaterialParams
-from .plausible import DENSITY, YOUNGS_MODULUS
-from .plasticity import ELASTIC, current_moduli, kirchhoff_trial, elastic_wave_speed
+from geompm.materials.base import Material, MaterialParams
+from geompm.materials.plausible import DENSITY, YOUNGS_MODULUS
+from geompm.materials.plasticity import ELASTIC, current_moduli, kirchhoff_trial, elastic_wave_speed
 
 
 class LinearElasticParams(MaterialParams):

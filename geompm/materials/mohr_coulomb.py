@@ -23,9 +23,9 @@ import math
 from numba import njit
 from pydantic import model_validator
 
-from ..kernels.eigen3 import sym_eig3
-from ..layout import param_layout
-from .plasticity import ELASTIC, ElastoplasticParams, FrictionalMaterial, current_moduli, kirchhoff_trial
+from geompm.kernels.eigen3 import sym_eig3
+from geompm.layout import param_layout
+from geompm.materials.plasticity import ELASTIC, ElastoplasticParams, FrictionalMaterial, current_moduli, kirchhoff_trial
 
 #: packed parameters: ELASTIC, sin and cos of phi, sin psi, cohesion c [Pa], dilatancy cut-off eps_v^p [-]
 MC = param_layout(ELASTIC, "sin_phi", "cos_phi", "sin_psi", "cohesion", "dilation_cutoff")

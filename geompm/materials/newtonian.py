@@ -13,10 +13,10 @@ from __future__ import annotations
 from numba import njit
 from pydantic import Field
 
-from .base import MaterialParams
-from .fluid import set_fluid_stress
-from ..layout import param_layout
-from .tait import EOS, TaitFluid, eos_pressure
+from geompm.materials.base import MaterialParams
+from geompm.materials.fluid import set_fluid_stress
+from geompm.layout import param_layout
+from geompm.materials.tait import EOS, TaitFluid, eos_pressure
 
 #: packed parameters: EOS, dynamic viscosity mu [Pa s]
 NEWTONIAN = param_layout(EOS, "viscosity")

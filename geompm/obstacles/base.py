@@ -21,13 +21,13 @@ import numpy as np
 from numba import njit
 from pydantic import Field
 
-from ..errors import CaseError
-from ..plugin import Params, vector_length_problems
-from ..resources import require_memory
-from .contact_force import FACES_GRID, OBSTACLE, contact_and_record, record_on_face
-from .guard import guard_rule, guard_spacing
-from .recorded import ContactForceStage
-from .sdf_field import face_lattice_ids, interp_field, lattice_bytes_per_point, lattice_size, sdf_lattice
+from geompm.errors import CaseError
+from geompm.plugin import Params, vector_length_problems
+from geompm.resources import require_memory
+from geompm.obstacles.contact_force import FACES_GRID, OBSTACLE, contact_and_record, record_on_face
+from geompm.obstacles.guard import guard_rule, guard_spacing
+from geompm.obstacles.recorded import ContactForceStage
+from geompm.obstacles.sdf_field import face_lattice_ids, interp_field, lattice_bytes_per_point, lattice_size, sdf_lattice
 
 O = OBSTACLE
 

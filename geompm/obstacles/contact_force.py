@@ -15,9 +15,9 @@ import math
 
 from numba import njit
 
-from ..boundaries.contact import apply_condition
-from ..layout import param_layout
-from .sdf_field import nearest_point
+from geompm.boundaries.contact import apply_condition
+from geompm.layout import param_layout
+from geompm.obstacles.sdf_field import nearest_point
 
 #: an obstacle's packed parameters (3 slots per vector, 2D uses two): its signed-distance lattice (first
 #: point [m], points per axis, spacing [m]), its displacement at the pass's time [m], its velocity [m/s],

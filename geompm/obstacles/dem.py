@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from ..errors import CaseError
+from geompm.errors import CaseError
 
 
 @njit(cache=True, inline="always")

@@ -19,12 +19,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..boundaries.contact import CONDITIONS, ON_SURFACE
-from ..layout import pack_in_layout
-from ..stages import OBSTACLE as OBSTACLE_PHASE
-from ..stages import GridStage, ParticleStage
-from .contact_force import COUNT, DEPTH, FACES_GRID, FACES_GUARD, FORCE_SLOTS, OBSTACLE
-from .face_pressure import face_pressure_step, spread_matrix
+from geompm.boundaries.contact import CONDITIONS, ON_SURFACE
+from geompm.layout import pack_in_layout
+from geompm.stages import OBSTACLE as OBSTACLE_PHASE
+from geompm.stages import GridStage, ParticleStage
+from geompm.obstacles.contact_force import COUNT, DEPTH, FACES_GRID, FACES_GUARD, FORCE_SLOTS, OBSTACLE
+from geompm.obstacles.face_pressure import face_pressure_step, spread_matrix
 
 
 class ContactForceStage(GridStage, ParticleStage):

@@ -12,10 +12,10 @@ from __future__ import annotations
 import numpy as np
 from pydantic import Field
 
-from ..errors import CaseError
-from ..fileio import case_relative, unreadable_file
-from ..geometry import load_surface_mesh, mesh_signed_distance, mesh_size_problem
-from .base import ObstacleParams, RigidObstacle
+from geompm.errors import CaseError
+from geompm.fileio import case_relative, unreadable_file
+from geompm.geometry import load_surface_mesh, mesh_signed_distance, mesh_size_problem
+from geompm.obstacles.base import ObstacleParams, RigidObstacle
 
 
 class RigidMeshParams(ObstacleParams):
@@ -59,7 +59,7 @@ class RigidMesh(RigidObstacle):
         super().setup(scene)
 
     def surface(self):
-        from .tessellate import refine_triangles
+        from geompm.obstacles.tessellate import refine_triangles
 
         return refine_triangles(self.mesh.vertices, self.mesh.faces, self.grid.h)
 
@@ -70,7 +70,7 @@ class RigidMesh(RigidObstacle):
     def thinnest(self):
         """The mesh's thinnest part [m]: the shortest chord from a face's centre into the solid along its
         inward normal (obstacles/thickness.py)."""
-        from .thickness import thinnest_part
+        from geompm.obstacles.thickness import thinnest_part
 
         return thinnest_part(self.mesh.vertices, self.mesh.faces, self.mesh.face_normals)
 

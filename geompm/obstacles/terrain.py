@@ -35,14 +35,14 @@ import numpy as np
 from numba import njit
 from pydantic import Field
 
-from ..errors import CaseError
-from ..fileio import case_relative, unreadable_file
-from ..layout import param_layout
-from ..plugin import Params
-from ..stages import FAR_NODE
-from .contact_force import COUNT, DEPTH, FACES_GRID, FACES_GUARD, OBSTACLE, contact_and_record
-from .dem import bilinear, read_dem
-from .recorded import ContactForceStage
+from geompm.errors import CaseError
+from geompm.fileio import case_relative, unreadable_file
+from geompm.layout import param_layout
+from geompm.plugin import Params
+from geompm.stages import FAR_NODE
+from geompm.obstacles.contact_force import COUNT, DEPTH, FACES_GRID, FACES_GUARD, OBSTACLE, contact_and_record
+from geompm.obstacles.dem import bilinear, read_dem
+from geompm.obstacles.recorded import ContactForceStage
 
 #: the obstacle slots (contact_force.OBSTACLE) and the DEM's lattice: first pixel centre [m], pixel size [m],
 #: pixels per axis, the cosine of its steepest slope
@@ -223,7 +223,7 @@ class Terrain(ContactForceStage):
 
     def surface(self):
         """Two triangles per DEM cell, vertices at the pixel centres (the heights the contact interpolates)."""
-        from .tessellate import heightfield_surface
+        from geompm.obstacles.tessellate import heightfield_surface
 
         d = self.dem
         nx, ny = d.z.shape

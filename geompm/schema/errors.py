@@ -12,7 +12,7 @@ import typing
 
 from pydantic import BaseModel, ValidationError
 
-from ..errors import join_path
+from geompm.errors import join_path
 
 _SHORT = {
     "greater_than": "must be > {gt}",

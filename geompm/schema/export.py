@@ -10,8 +10,8 @@ else is installed where it was generated.
 
 from __future__ import annotations
 
-from .. import registry
-from .case import Case
+from geompm import registry
+from geompm.schema.case import Case
 
 
 def case_json_schema(built_in_only: bool = False) -> dict:

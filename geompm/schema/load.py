@@ -19,13 +19,13 @@ from pathlib import Path
 import numpy as np
 from pydantic import ValidationError
 
-from .. import registry
-from ..errors import CaseError, join_path
-from ..fileio import case_relative, unreadable_file
-from ..resources import available_memory, grid_bytes, particle_bytes, window_nodes
-from .case import Case, DampingSpec, MaterialSpec, OutputSpec, PluginSpec
-from .errors import format_validation_error
-from .raw_checks import TOO_DEEP, merge, raw_problems
+from geompm import registry
+from geompm.errors import CaseError, join_path
+from geompm.fileio import case_relative, unreadable_file
+from geompm.resources import available_memory, grid_bytes, particle_bytes, window_nodes
+from geompm.schema.case import Case, DampingSpec, MaterialSpec, OutputSpec, PluginSpec
+from geompm.schema.errors import format_validation_error
+from geompm.schema.raw_checks import TOO_DEEP, merge, raw_problems
 
 
 @dataclass
@@ -286,7 +286,7 @@ def _backend_problem(case: Case) -> str | None:
 
     if importlib.util.find_spec("numba_cuda") is None:
         return "needs numba-cuda, which is not installed: pip install 'geompm[cuda]'"
-    from ..backend.cuda_loops import simulated
+    from geompm.backend.cuda_loops import simulated
 
     if simulated():
         return None
@@ -380,7 +380,7 @@ def _parse_valid_numbers(raw: dict, base_dir: Path) -> LoadedCase:
 def plausibility_warnings(loaded) -> list[tuple[str, str]]:
     """(JSON path, sentence) for every material parameter outside the range its law declares plausible
     (materials/plausible.py): a value that is valid but looks like a wrong unit."""
-    from ..materials.plausible import warnings_for
+    from geompm.materials.plausible import warnings_for
 
     return [(f"materials.{name}.{field}", text) for name, r in loaded.materials.items()
             for field, text in warnings_for(getattr(r.cls, "plausible", ()), r.params)]

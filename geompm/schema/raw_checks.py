@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 
-from ..errors import join_path
+from geompm.errors import join_path
 
 MAX_DEPTH = 32
 TOO_DEEP = f"nested more than {MAX_DEPTH} levels deep"

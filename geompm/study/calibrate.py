@@ -26,13 +26,13 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import CaseError
-from ..fileio import atomic_write_json
-from ..ownership import holds_only, prepare_folder
-from ..schema.load import load_case
-from . import metrics as M
-from .execute import Pool, add_threads_option, check_threads, finished, run_variant, threads_per_run, variant_case
-from .report import write_csv
+from geompm.errors import CaseError
+from geompm.fileio import atomic_write_json
+from geompm.ownership import holds_only, prepare_folder
+from geompm.schema.load import load_case
+from geompm.study import metrics as M
+from geompm.study.execute import Pool, add_threads_option, check_threads, finished, run_variant, threads_per_run, variant_case
+from geompm.study.report import write_csv
 
 COMPARED = ("X_star", "K_star")
 CALIBRATION_FILES = {"calibration.csv", "evaluations.csv", "calibration.json", "calibration.png"}
@@ -216,7 +216,7 @@ def cmd_calibrate(args) -> int:
 
 
 def _raw_of(path) -> dict:
-    from ..schema.load import read_json
+    from geompm.schema.load import read_json
 
     return read_json(Path(path))
 
@@ -263,7 +263,7 @@ def _report(args, out, soils, tried, evaluations, refs, folders, bounds) -> int:
     if fit:
         print(f"linear fit: {name} = {fit[0]:.4g} + {fit[1]:.4g} h, R^2 = {fit[2]:.4f}")
     try:
-        from .calibrate_plot import plot_calibration
+        from geompm.study.calibrate_plot import plot_calibration
 
         plot_calibration(out / "calibration.png", done, refs, folders, fit, name)
         print(f"wrote {out / 'calibration.csv'}, {out / 'calibration.png'}")

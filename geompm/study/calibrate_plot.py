@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import metrics as M
-from .calibrate import SOURCE_MU_INF
+from geompm.study import metrics as M
+from geompm.study.calibrate import SOURCE_MU_INF
 
 
 def plot_calibration(path, rows, refs, folders, fit, name: str) -> None:

@@ -16,14 +16,14 @@ import os
 import sys
 from pathlib import Path
 
-from ..errors import CaseError
-from ..fileio import atomic_write_json
-from ..ownership import holds_only, prepare_folder
-from ..schema.load import apply_overrides, load_case, read_json
-from . import metrics as M
-from . import report
-from .execute import Pool, add_threads_option, check_threads, finished, run_variant, threads_per_run, variant_case
-from .plan import build_plan, parse_sample, parse_vary
+from geompm.errors import CaseError
+from geompm.fileio import atomic_write_json
+from geompm.ownership import holds_only, prepare_folder
+from geompm.schema.load import apply_overrides, load_case, read_json
+from geompm.study import metrics as M
+from geompm.study import report
+from geompm.study.execute import Pool, add_threads_option, check_threads, finished, run_variant, threads_per_run, variant_case
+from geompm.study.plan import build_plan, parse_sample, parse_vary
 
 SCALARS = ("runout", "height", "peak_force", "impulse")
 
@@ -72,7 +72,7 @@ def _variant_label(v) -> str:
 def validate_all(case: str, variants, common: list[str]) -> None:
     """Every variant through all the case checks (schema, plugins, assembly); one CaseError listing all
     problems, before any run."""
-    from ..assemble import assemble
+    from geompm.assemble import assemble
 
     problems = []
     for v in variants:

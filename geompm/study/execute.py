@@ -19,7 +19,7 @@ import sys
 import uuid
 from pathlib import Path
 
-from ..schema.load import apply_overrides
+from geompm.schema.load import apply_overrides
 
 
 def finished(run_dir: Path, raw_case: dict) -> bool:
@@ -114,7 +114,7 @@ def add_threads_option(parser) -> None:
 
 
 def check_threads(threads: int | None) -> None:
-    from ..errors import CaseError
+    from geompm.errors import CaseError
 
     if threads is not None and threads < 1:
         raise CaseError([("--threads", f"{threads} is not a thread count; give 1 or more")])

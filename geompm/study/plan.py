@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import CaseError
+from geompm.errors import CaseError
 
 DISTRIBUTIONS = {"normal": 2, "lognormal": 2, "uniform": 2, "triangular": 3}
 

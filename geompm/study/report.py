@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import metrics as M
+from geompm.study import metrics as M
 
 RESOLUTION_KEY = "grid.cell_size"
 

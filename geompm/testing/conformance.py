@@ -175,7 +175,7 @@ def check_plastic_dissipation(law):
 def check_wave_speed_monotone(law):
     """The wave speed is monotone in the density from rho0 / 100 to 10 rho0 (the backend evaluates it at
     a block's lowest and highest density only), positive and finite."""
-    from ..backend.cpu_loops import block_loops
+    from geompm.backend.cpu_loops import block_loops
 
     mat = law(law.example_params())
     wave = block_loops(law)[1]
@@ -196,7 +196,7 @@ def check_no_allocation(law):
     allocations (numba's runtime counters), so the law allocates nothing per particle."""
     from numba.core.runtime import _nrt_python, rtsys
 
-    from ..backend.cpu_loops import block_loops
+    from geompm.backend.cpu_loops import block_loops
 
     stress_block = block_loops(law)[0]
     counts = []

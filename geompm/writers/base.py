@@ -14,7 +14,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import ClassVar
 
-from ..plugin import Plugin
+from geompm.plugin import Plugin
 
 
 class Writer(Plugin):

@@ -39,10 +39,10 @@ import numpy as np
 from numba import njit
 from pydantic import Field
 
-from ..errors import CaseError
-from ..fileio import atomic_path, atomic_write_json, case_relative
-from ..plugin import Params
-from .base import Writer
+from geompm.errors import CaseError
+from geompm.fileio import atomic_path, atomic_write_json, case_relative
+from geompm.plugin import Params
+from geompm.writers.base import Writer
 
 NODATA = -9999.0
 MAPS = ("depth_max", "speed_max", "pressure_max", "energy_max", "arrival", "deposit", "source")
@@ -115,8 +115,8 @@ class HazardMapWriter(Writer):
         return []
 
     def _raster(self, sim):
-        from ..obstacles.dem import read_dem
-        from ..obstacles.terrain import Terrain
+        from geompm.obstacles.dem import read_dem
+        from geompm.obstacles.terrain import Terrain
 
         if self.params.dem is not None:
             self.dem_path = case_relative(sim.scene.base_dir, self.params.dem)

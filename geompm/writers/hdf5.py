@@ -25,11 +25,11 @@ from pathlib import Path
 import numpy as np
 from pydantic import Field
 
-from .. import __version__, registry
-from ..fileio import atomic_path
-from ..plugin import Params
-from .base import Writer
-from .vtu import _pad3, particle_fields
+from geompm import __version__, registry
+from geompm.fileio import atomic_path
+from geompm.plugin import Params
+from geompm.writers.base import Writer
+from geompm.writers.vtu import _pad3, particle_fields
 
 
 class Hdf5Params(Params):

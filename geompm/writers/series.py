@@ -24,10 +24,10 @@ import os
 import numpy as np
 from pydantic import Field
 
-from ..kernels.reduce import max_projection
-from ..plugin import Params
-from ..study.deposit import front_of, height_of, thickness_profile
-from .base import Writer
+from geompm.kernels.reduce import max_projection
+from geompm.plugin import Params
+from geompm.study.deposit import front_of, height_of, thickness_profile
+from geompm.writers.base import Writer
 
 
 class Normalise(Params):

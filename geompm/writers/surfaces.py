@@ -28,10 +28,10 @@ from __future__ import annotations
 import numpy as np
 from pydantic import Field
 
-from ..fileio import atomic_path, atomic_write_text
-from ..plugin import Params
-from .base import Writer
-from .vtu import add_text_field
+from geompm.fileio import atomic_path, atomic_write_text
+from geompm.plugin import Params
+from geompm.writers.base import Writer
+from geompm.writers.vtu import add_text_field
 
 
 class SurfacesParams(Params):

@@ -16,9 +16,9 @@ from __future__ import annotations
 import numpy as np
 from pydantic import Field
 
-from ..fileio import atomic_path, atomic_write_text
-from ..plugin import Params
-from .base import Writer
+from geompm.fileio import atomic_path, atomic_write_text
+from geompm.plugin import Params
+from geompm.writers.base import Writer
 
 
 class VtuParams(Params):
