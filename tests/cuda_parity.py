@@ -28,7 +28,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from geompm import registry  # noqa: E402
+from geompm.contract import registry  # noqa: E402
 from geompm.api import scene_from_dict  # noqa: E402
 from geompm.engine.scheduler import Simulation  # noqa: E402
 

@@ -16,7 +16,7 @@ import pytest
 
 from geompm.api import scene_from_file
 from geompm.engine.scheduler import Simulation
-from geompm.study.deposit import deposit_front, deposit_height
+from geompm.writers.deposit import deposit_front, deposit_height
 
 from .conftest import CASES
 
@@ -72,7 +72,7 @@ def _deposit(sets):
 
 
 def _front_height(sets, h0):
-    """(front, height) [m] of the deposit: geompm.study.deposit at a threshold of 0.05 H0, sampled every
+    """(front, height) [m] of the deposit: geompm.writers.deposit at a threshold of 0.05 H0, sampled every
     0.01 H0, as series.csv writes them for `geompm study` (benchmarks/convergence/lube_study.sh)."""
     sim, area = _deposit(sets)
     x = sim.state.p_x

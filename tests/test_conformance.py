@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from geompm import registry
+from geompm.contract import registry
 from geompm.materials.drucker_prager import dp_stress
 from geompm.testing import MATERIAL_CHECKS
 

@@ -137,7 +137,7 @@ def has_nvvm() -> bool:
 
 def cuda_functions() -> dict:
     """label -> plugin, for every function of every installed plugin that declares the cuda backend."""
-    from geompm import registry
+    from geompm.contract import registry
     from geompm.backend.cuda_ptx import function_ref
 
     out = {}

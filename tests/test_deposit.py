@@ -1,4 +1,4 @@
-"""The deposit measures of geompm/study/deposit.py on deposits whose answer is known in closed form.
+"""The deposit measures of geompm/writers/deposit.py on deposits whose answer is known in closed form.
 
 A rectangle L x H of particles on a regular lattice (any spacing): thickness H
 everywhere, front at L (to the sampling step), height H; a wedge of slope
@@ -11,7 +11,7 @@ the threshold.
 import numpy as np
 import pytest
 
-from geompm.study.deposit import deposit_front, deposit_height, thickness_profile
+from geompm.writers.deposit import deposit_front, deposit_height, thickness_profile
 
 
 def _lattice(L, H, s):

@@ -2,7 +2,7 @@
 
 cases/seed/cross.json (source section 3.2 soil as a Cross fluid, mu_inf = 0.415 Pa s, the explicit
 calibration at h = 0.02 m of docs/validation/seed-dp-vs-cross.md; mu_0 = 1e4 mu_inf) to 0.6 s at h = 0.02 m.
-The deposit front and height are those of geompm/study/deposit.py (threshold 0.05 H0 = 5 mm).  The
+The deposit front and height are those of geompm/writers/deposit.py (threshold 0.05 H0 = 5 mm).  The
 measured table at h = 0.01 m is benchmarks/results/2026-12-02-cross-column-explicit-vs-evp.txt.
 """
 
@@ -16,7 +16,7 @@ import pytest
 from geompm.api import scene_from_dict
 from geompm.engine.scheduler import Simulation
 from geompm.schema.load import apply_overrides
-from geompm.study.deposit import deposit_front, deposit_height
+from geompm.writers.deposit import deposit_front, deposit_height
 
 ROOT = Path(__file__).resolve().parents[1]
 EVP = {"materials.soil.integration": "elastoviscoplastic"}

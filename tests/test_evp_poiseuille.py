@@ -21,7 +21,7 @@ import pytest
 
 from geompm.api import scene_from_dict
 from geompm.engine.scheduler import Simulation
-from geompm.engine.timestep import viscous_limit
+from geompm.backend.timestep import viscous_limit
 
 RHO, MU, TAU_Y, G_BODY, HALF = 1000.0, 1.0, 20.0, 1000.0, 0.05
 

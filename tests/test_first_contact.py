@@ -154,7 +154,7 @@ def test_info_reports_each_bodys_front(tmp_path, capsys):
 
 def test_study_summary_is_strict_json():
     """The strict writer turns NaN and infinities into null (study_summary.json held bare NaN)."""
-    from geompm.fileio import strict_json
+    from geompm.files.atomic import strict_json
 
     text = strict_json({"order": float("nan"), "runs": [np.float64(np.inf), np.int64(3)]})
     assert json.loads(text) == {"order": None, "runs": [None, 3]} and "NaN" not in text
@@ -163,7 +163,7 @@ def test_study_summary_is_strict_json():
 def test_zero_area_faces_are_dropped_before_the_watertight_check(tmp_path):
     """A closed box STL with two zero-area triangles (as CAD exports leave them) was refused as 'not
     watertight'; the degenerate faces enclose nothing, so they are dropped and the 12 real faces load."""
-    from geompm.geometry import load_surface_mesh
+    from geompm.files.mesh import load_surface_mesh
 
     box = trimesh.creation.box([0.3, 0.2, 0.1])
     bad = trimesh.Trimesh(box.vertices, np.vstack([box.faces, [[0, 0, 1], [2, 3, 3]]]), process=False)

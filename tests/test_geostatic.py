@@ -75,7 +75,7 @@ def test_column_ids_sort_like_unique_rows(scale):
     """assemble._column_ids, the fast replacement of np.unique(keys, axis=0) that bins particles into
     columns for the overburden, gives the same partition in the same order as np.unique's inverse: on
     random negative and positive column indices, and past int64 (a span of 2^40 per axis, the fallback)."""
-    from geompm.assemble import _column_ids
+    from geompm.setup.assemble import _column_ids
 
     rng = np.random.default_rng(3)
     keys = rng.integers(-scale, scale, size=(5000, 3))

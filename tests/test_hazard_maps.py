@@ -78,7 +78,7 @@ def test_hazard_maps_of_a_sliding_block(tmp_path, capsys):
         assert f.attrs["crs"] == "EPSG:2056"
     assert main(["info", str(out)]) == 0
     assert "travel angle" in capsys.readouterr().out
-    assert main(["plot", str(out)]) == 0  # the maps over the DEM's hillshade (maps_plot.py)
+    assert main(["plot", str(out)]) == 0  # the maps over the DEM's hillshade (plots/maps.py)
     for name in ("depth_max", "speed_max", "pressure_max", "arrival", "deposit"):
         png = (out / "plots" / f"map_{name}.png").read_bytes()
         assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 10_000, name

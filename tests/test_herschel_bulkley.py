@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from geompm.materials.herschel_bulkley import HerschelBulkley
+from geompm.testing import update_stress
 
 from .test_fluid_laws import _shear
 
@@ -66,7 +67,7 @@ def test_the_elastoviscoplastic_integration_reaches_the_same_steady_shear_stress
         stress = np.zeros((1, 6))
         state = mat.initial_state(1)
         for _ in range(80):
-            mat.update_stress(lam, L, np.full(1, 1800.0), stress, state)  # dt = lambda
+            update_stress(mat, lam, L, np.full(1, 1800.0), stress, state)  # dt = lambda
         return stress[0, 3]
 
     def law(G):
@@ -91,8 +92,8 @@ def test_the_elastoviscoplastic_integration_reaches_the_same_steady_shear_stress
     stress = np.zeros((1, 6))
     mat = law(None)
     state = mat.initial_state(1)
-    mat.update_stress(1e-6, L, np.full(1, 1800.0), stress, state)
+    update_stress(mat, 1e-6, L, np.full(1, 1800.0), stress, state)
     assert stress[0, 3] == pytest.approx(G * 1e-6, rel=1e-12)
     for _ in range(200):  # 200 x 0.405 Pa: past the 50 Pa yield stress, then on the flow surface
-        mat.update_stress(1e-6, L, np.full(1, 1800.0), stress, state)
+        update_stress(mat, 1e-6, L, np.full(1, 1800.0), stress, state)
     assert 50.0 < stress[0, 3] < 50.0 + 5.0 * 1.0 ** n + 1e-9

@@ -1,4 +1,4 @@
-"""The material kernel contract (materials/base.py, layout.py, backend/cpu_loops.py; issue 17).
+"""The material kernel contract (materials/base.py, contract/layout.py, backend/cpu_loops.py; issue 17).
 
 A law is two per-particle @njit functions; the backend writes the loop that runs them over a block
 as a module in its kernel folder (so numba caches it) or, for a law that cannot be imported by name,
@@ -12,8 +12,9 @@ from numba import njit
 
 from geompm.backend import codegen, cpu_loops
 from geompm.materials.drucker_prager import DP, DruckerPrager, dp_stress
-from geompm.layout import pack_in_layout, param_layout
+from geompm.contract.layout import pack_in_layout, param_layout
 from geompm.materials.plasticity import ELASTIC
+from geompm.testing import update_stress
 
 
 def _shear_block(n=32):
@@ -56,7 +57,7 @@ def test_a_law_defined_in_a_function_runs_through_the_uncached_loop():
         L, rho, stress = _shear_block()
         state = mat.initial_state(len(rho))
         for _ in range(20):
-            mat.update_stress(1e-3, L, rho, stress, state)
+            update_stress(mat, 1e-3, L, rho, stress, state)
         out.append((stress, state))
     assert out[0][1][:, 0].max() > 0  # it yielded
     np.testing.assert_array_equal(out[1][0], out[0][0])
@@ -68,7 +69,7 @@ def test_the_stress_loop_reports_the_largest_stretching_rate():
     L_xy up to 50 1/s, which changes no volume."""
     mat = DruckerPrager(DruckerPrager.example_params())
     L, rho, stress = _shear_block()
-    rate = mat.update_stress(1e-3, L, rho, stress, mat.initial_state(len(rho)))
+    rate = update_stress(mat, 1e-3, L, rho, stress, mat.initial_state(len(rho)))
     assert rate == np.abs(np.diagonal(L, axis1=1, axis2=2)).max() and rate < 5.0 < np.abs(L).max()
 
 

@@ -120,8 +120,8 @@ def test_stl_errors_are_refused_before_any_work(tmp_path, capsys):
 
 
 def test_force_history_plot(tmp_path):
-    """geompm.plotting draws an obstacle's force history to a non-empty PNG."""
-    from geompm.plotting import obstacle_names, plot_obstacle_forces
+    """geompm.plots.run draws an obstacle's force history to a non-empty PNG."""
+    from geompm.plots.run import obstacle_names, plot_obstacle_forces
 
     series = _run_drop_with_series(tmp_path)
     assert obstacle_names(np.genfromtxt(series, delimiter=",", names=True).dtype.names) == ["wall"]

@@ -12,9 +12,10 @@ import warnings
 import numpy as np
 import pytest
 
-from geompm import registry
+from geompm.contract import registry
 from geompm.api import scene_from_dict
 from geompm.engine.scheduler import Simulation
+from geompm.backend.cpu_loops import law_wave_speed
 
 from .conftest import tiny_case
 
@@ -68,7 +69,7 @@ def test_third_party_law_runs_in_a_case(fake_dist):
         case = tiny_case()
         case["materials"]["soil"]["model"] = model
         sim = Simulation(scene_from_dict(json.loads(json.dumps(case))))
-        speeds.append(sim.scene.materials[0].wave_speed(sim.state.p_rho))
+        speeds.append(law_wave_speed(sim.scene.materials[0], sim.state.p_rho))
         for _ in range(5):
             sim.step(sim.stable_dt())
         assert np.isfinite(sim.state.p_stress).all()

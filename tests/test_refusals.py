@@ -152,7 +152,7 @@ def mutated_cases(draw):
 def test_mutated_cases_load_or_fail_with_a_json_path(case):
     """250 mutated cases (replace, delete or add a key anywhere, up to 3 times): the loader and the
     assembly either succeed or raise CaseError whose every problem has a JSON path and a message."""
-    from geompm.assemble import assemble
+    from geompm.setup.assemble import assemble
 
     try:
         assemble(parse_case(case))

@@ -1,4 +1,4 @@
-"""Release bodies from GIS files (release.py; issue 18, point 3) on a DEM of a 30 deg incline.
+"""Release bodies from GIS files (setup/release.py; issue 18, point 3) on a DEM of a 30 deg incline.
 
 A vertical prism over a plane has the volume (plan area) x (vertical thickness) exactly, so the seeded
 particle volume is checked against that at three lattice spacings (h = 0.1, 0.05, 0.025 m with 2

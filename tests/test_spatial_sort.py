@@ -1,4 +1,4 @@
-"""The spatial sort (kernels/sort.py, engine/state.py; issue 17, point 4).
+"""The spatial sort (kernels/sort.py, mpm/state.py; issue 17, point 4).
 
 Particles are re-ordered by grid cell inside each material block; every particle keeps its data
 (checked through its stable ``p_id``), the arrays keep their identity, and a run that sorts every

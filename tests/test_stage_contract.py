@@ -1,4 +1,4 @@
-"""The stage kernel contract (stages.py, backend/cpu_stage_loops.py; issue 17, point 2).
+"""The stage kernel contract (contract/stages.py, backend/cpu_stage_loops.py; issue 17, point 2).
 
 Every shipped boundary, damping and obstacle plugin gives per-node or per-particle @njit functions
 and the backend owns the loops.  Checked here: each registered stage declares exactly the functions
@@ -20,8 +20,8 @@ from geompm.backend.cpu import CpuBackend
 from geompm.boundaries.halfspace import halfspace_node_rule, halfspace_particle_rule
 from geompm.boundaries.plane import Plane
 from geompm.engine.scheduler import Simulation
-from geompm.registry import available
-from geompm.stages import GridStage, ParticleStage
+from geompm.contract.registry import available
+from geompm.contract.stages import GridStage, ParticleStage
 
 
 def _case(extra_boundaries=(), damping=(), obstacles=()):

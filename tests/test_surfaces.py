@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from geompm.cli import main
-from geompm.obstacles.tessellate import (box_surface, cylinder_surface, heightfield_surface, plane_surface,
+from geompm.contact.tessellate import (box_surface, cylinder_surface, heightfield_surface, plane_surface,
                                          sphere_surface)
 
 

@@ -1,4 +1,4 @@
-"""Terrain from a DEM (obstacles/terrain.py, obstacles/dem.py; issue 18, point 1).
+"""Terrain from a DEM (obstacles/terrain.py, files/dem.py; issue 18, point 1).
 
 - Signed distance from the height field against the exact distance to a paraboloid
   z = (x^2 + y^2) / (2 R) (closest point by dense search on the analytic surface): within 0.05 h.

@@ -1,4 +1,4 @@
-"""The thinnest part of a closed mesh (obstacles/thickness.py), which sets the guard lattice's spacing.
+"""The thinnest part of a closed mesh (contact/thickness.py), which sets the guard lattice's spacing.
 
 References are the shapes' own geometry, exact for the faceted meshes trimesh makes:
 - a k-section cylinder of radius r: the distance between opposite flats, 2 r cos(pi / k) for even k;
@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from geompm.obstacles.thickness import face_chords, thinnest_part
+from geompm.contact.thickness import face_chords, thinnest_part
 
 
 def _thin(mesh):

@@ -81,7 +81,7 @@ def test_volume_follows_det_F_without_storing_F():
 @pytest.mark.parametrize("dim", [2, 3])
 @pytest.mark.parametrize("kind,mls", [(0, False), (1, False), (2, False), (1, True), (2, True)])
 def test_folded_p2g_equals_momentum_plus_dt_force(dim, kind, mls):
-    """Folded P2G (engine/grid.py: no stage reads f_i) must give (mv)_i + dt f_i of the split
+    """Folded P2G (mpm/grid.py: no stage reads f_i) must give (mv)_i + dt f_i of the split
     P2G, node by node, and leave the force array alone: the explicit update
     v_i = ((mv)_i + dt f_i)/m_i + dt g is then the same as v_i = v_old + dt (f_i/m_i + g).
     For MLS the folded force is an affine term and the split one goes through

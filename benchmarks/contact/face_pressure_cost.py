@@ -17,7 +17,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from geompm.assemble import assemble
+from geompm.setup.assemble import assemble
 from geompm.engine.scheduler import Simulation
 from geompm.schema import load_case
 

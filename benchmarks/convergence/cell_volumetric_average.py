@@ -7,7 +7,7 @@ the volume-weighted mean over the particles of its grid cell (the B-bar idea ove
     PYTHONPATH=benchmarks/convergence python benchmarks/convergence/column_probe.py 0.02 0.01 \\
         --stage cell_volumetric_average:CellVolumetricAverage
 
-A per-cell average is not a per-particle function (stages.py), so this is no stage: the probe runs its
+A per-cell average is not a per-particle function (contract/stages.py), so this is no stage: the probe runs its
 ``apply(state)`` on the host just before each stress update (column_probe.py wraps the backend's
 update_stress).
 """

@@ -6,7 +6,7 @@
 Runs cases/column_collapse.json (a = H0/L0 = 0.5, L0 = 0.2 m; or the column of ``--aspect`` and ``--L0``
 in a domain long enough for its runout) through the Python API to t = end and prints the runout
 (L - L0)/L0 by two metrics: the furthest particle, and the deposit front at a thickness of 0.05 H0
-(geompm.study.deposit), plus the final height / H0, steps and wall seconds.  With ``--per-H0`` the
+(geompm.writers.deposit), plus the final height / H0, steps and wall seconds.  With ``--per-H0`` the
 numbers are H0/h.
 """
 
@@ -24,8 +24,8 @@ import numpy as np  # noqa: E402
 
 from geompm.api import scene_from_file  # noqa: E402
 from geompm.engine.scheduler import Simulation  # noqa: E402
-from geompm.stages import ParticleStage  # noqa: E402
-from geompm.study.deposit import deposit_front, deposit_height  # noqa: E402
+from geompm.contract.stages import ParticleStage  # noqa: E402
+from geompm.writers.deposit import deposit_front, deposit_height  # noqa: E402
 
 RHO = 2650.0
 

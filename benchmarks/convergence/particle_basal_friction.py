@@ -13,7 +13,7 @@ of a velocity rule on floor nodes whose velocity averages 1.5 h of material.
 import numpy as np
 from numba import njit
 
-from geompm.stages import NO_AUX, ParticleStage
+from geompm.contract.stages import NO_AUX, ParticleStage
 
 MU = 0.6009  # tan 31 deg, the shipped floor's coefficient
 

@@ -42,7 +42,7 @@ PPC = 2
 
 
 def seed() -> np.ndarray:
-    """Sub-cell centres inside the block, as geompm.geometry.lattice seeds a box."""
+    """Sub-cell centres inside the block, as geompm.setup.bodies.lattice seeds a box."""
     axes = []
     for lo, hi in zip(*BLOCK):
         k = np.arange(int(np.floor(lo / H)) * PPC, int(np.ceil(hi / H)) * PPC)

@@ -2,7 +2,7 @@
 
     python benchmarks/precision/float32_errors.py [bar|dambreak|column ...] > float32_errors.csv
 
-The float32 state (engine/state.py set_precision) is stored in float32 and computed in float64
+The float32 state (mpm/state.py set_precision) is stored in float32 and computed in float64
 registers, on the CPU backend as on the CUDA one (the same kernels' arithmetic: only the order of the
 P2G sums differs), so the errors measured here on the CPU are those of a float32 GPU run.  For each
 case and cell size h, one float64 and one float32 run; one CSV row each:
@@ -14,7 +14,7 @@ case and cell size h, one float64 and one float32 run; one CSV row each:
   the reference is Martin & Moyce (1952), a = 2.25 in, n^2 = 2 (tests/refdata), largest relative
   error for T <= 3; also the largest |Z32 - Z64| over the run.
 - column: cases/column_collapse.json (DP, a = 0.5, L0 = 0.2 m) to t = 0.8 s, the deposit front
-  (geompm.study.deposit, thickness threshold 0.05 H0, sampled every 0.01 H0) as (L - L0)/L0; the
+  (geompm.writers.deposit, thickness threshold 0.05 H0, sampled every 0.01 H0) as (L - L0)/L0; the
   reference is Lube et al. (2005), 1.2 a = 0.60 (tests/refdata/granular_collapse_scaling_laws.csv).
 """
 
@@ -31,7 +31,7 @@ sys.path.insert(0, str(ROOT))
 
 from geompm.api import scene_from_file  # noqa: E402
 from geompm.engine.scheduler import Simulation  # noqa: E402
-from geompm.study.deposit import deposit_front  # noqa: E402
+from geompm.writers.deposit import deposit_front  # noqa: E402
 
 CASES = ROOT / "cases"
 REF = ROOT.parent / "shared" / "refdata"

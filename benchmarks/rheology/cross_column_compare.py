@@ -21,7 +21,7 @@ from pathlib import Path
 
 import meshio
 
-from geompm.study.deposit import deposit_front, deposit_height
+from geompm.writers.deposit import deposit_front, deposit_height
 
 ROOT = Path(__file__).resolve().parents[2]
 CASE = ROOT / "cases" / "column_collapse_cross.json"

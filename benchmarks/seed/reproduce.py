@@ -95,7 +95,7 @@ def main() -> None:
         if args.only in (None, "3.2"):
             timing["3.2_s"] = section_32(args.out / "3.2", args.workers)
         timing.update(cores=os.cpu_count(), workers=args.workers, date=time.strftime("%Y-%m-%d"))
-        from geompm.fileio import atomic_write_json
+        from geompm.files.atomic import atomic_write_json
 
         atomic_write_json(timing_path, timing)
     if (args.out / "3.1").is_dir() and (args.out / "3.2").is_dir():

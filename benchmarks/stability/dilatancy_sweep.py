@@ -30,7 +30,7 @@ from geompm.api import scene_from_dict
 from geompm.engine.health import HealthCheck
 from geompm.engine.scheduler import Simulation
 from geompm.errors import SimulationError
-from geompm.study.deposit import deposit_front
+from geompm.writers.deposit import deposit_front
 
 CASE = Path(__file__).resolve().parents[2] / "cases" / "column_collapse.json"
 FIELDS = ["model", "cutoff", "psi", "h", "status", "steps", "t_end", "dt_first", "dt_min", "energy_ratio", "rho_min_ratio",

@@ -3,7 +3,7 @@
 One step (engine/scheduler.py) in backend calls:
 
     sort_particles()                 every solver.sort_interval steps
-    view = window()                  the active grid window (engine/grid.py)
+    view = window()                  the active grid window (mpm/grid.py)
     p2g(view, f_scale)               mass, momentum, internal force
     grid_update(view, dt)            momentum balance + gravity
     grid_stage(stage, view, dt, time, remap)   each grid stage's node rule or node merge
@@ -11,7 +11,7 @@ One step (engine/scheduler.py) in backend calls:
     particle_stage(stage, dt, time)            each particle stage's particle rule
     update_stress(dt)                each material block through its law's loop; sets max_rate,
                                      the largest |L_ii| of the step, for the strain-increment limit
-(the next step's CFL limit runs each law's wave-speed loop: engine/timestep.py)
+(the next step's CFL limit runs each law's wave-speed loop: backend/timestep.py)
 
 The transfer scheme (PIC/APIC/FLIP/MLS) and the stencil support are fixed when
 the backend is made and reach the kernels as compile-time tags
@@ -31,9 +31,9 @@ class Backend:
     max_rate: float | None = None
 
     def stable_dt(self) -> float:
-        """The next step [s] (engine/timestep.py) from the particles' speeds, densities and the last
+        """The next step [s] (backend/timestep.py) from the particles' speeds, densities and the last
         stress update's largest |L_ii|; a device backend overrides it with its own reductions."""
-        from geompm.engine.timestep import stable_dt
+        from geompm.backend.timestep import stable_dt
 
         return stable_dt(self.scene, self.host_state(), self.max_rate)
 

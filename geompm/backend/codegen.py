@@ -1,7 +1,7 @@
 """Backend loops generated around a plugin's per-item functions, written as modules so numba caches them.
 
 A plugin gives ``@njit`` functions for one item (a particle's stress update,
-a node's contact rule: materials/base.py, stages.py); the backend owns the
+a node's contact rule: materials/base.py, contract/stages.py); the backend owns the
 loops that run them (backend/cpu_loops.py for laws, backend/cpu_stage_loops.py
 for stages).  ``loops(kind, functions, body, names)`` returns those loops:
 
@@ -48,7 +48,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from geompm.fileio import user_mode
+from geompm.files.atomic import user_mode
 
 HEADER = "# geompm generated kernel loop: do not edit (geompm/backend/codegen.py)\n"
 

@@ -14,13 +14,14 @@ import math
 
 import numpy as np
 
-from geompm.engine.grid import GridBuffers
+from geompm.mpm.grid import GridBuffers
 from geompm.kernels.grid_update import grid_update, grid_update_folded, momentum_to_velocity
 from geompm.kernels.stencil import scheme_tag, stencil_tag
 from geompm.kernels.transfer2d import g2p_2d, p2g_2d
 from geompm.kernels.transfer3d import g2p_3d, p2g_3d
-from geompm.stages import FAR_NODE, GridStage, ParticleStage
+from geompm.contract.stages import FAR_NODE, GridStage, ParticleStage
 from geompm.backend.base import Backend
+from geompm.backend.cpu_loops import update_law_block
 from geompm.backend.cpu_loops import block_loops
 from geompm.backend.cpu_stage_loops import merge_loop, node_loop, particle_loop
 
@@ -90,7 +91,7 @@ class CpuBackend(Backend):
         rate = 0.0
         for mat, (s, e), sv in zip(self.scene.materials, st.blocks, st.p_state):
             if e > s:
-                rate = max(rate, mat.update_stress(dt, st.p_L[s:e], st.p_rho[s:e], st.p_stress[s:e], sv))
+                rate = max(rate, update_law_block(mat, dt, st.p_L[s:e], st.p_rho[s:e], st.p_stress[s:e], sv))
         self.max_rate = rate
 
     def sort_particles(self) -> None:
@@ -102,11 +103,11 @@ class CpuBackend(Backend):
         out = {}
         if issubclass(cls, GridStage):
             if (cls.node_rule is None) == (cls.node_image is None):
-                raise TypeError(f"stage '{cls.name}' must define exactly one of node_rule and node_image (stages.py)")
+                raise TypeError(f"stage '{cls.name}' must define exactly one of node_rule and node_image (contract/stages.py)")
             out["grid"] = node_loop(cls.node_rule) if cls.node_rule is not None else merge_loop(cls.node_image)
         if issubclass(cls, ParticleStage):
             if cls.particle_rule is None:
-                raise TypeError(f"stage '{cls.name}' must define particle_rule (stages.py)")
+                raise TypeError(f"stage '{cls.name}' must define particle_rule (contract/stages.py)")
             out["particle"] = particle_loop(cls.particle_rule)
         return out
 

@@ -1,4 +1,4 @@
-"""The CPU backend's loops around a stage's per-node and per-particle functions (stages.py).
+"""The CPU backend's loops around a stage's per-node and per-particle functions (contract/stages.py).
 
     node_pass(prm, aux, dt, origin, h, lo, nloc, first, last, g_mass, g_vel, g_vel_old, g_force, work, out)
         the rule on every node with mass whose global index lies in [first, last] (inclusive, per axis)
@@ -15,7 +15,7 @@ does (kernels/chunks.py).  A node's position is computed from its global
 index exactly as the grid defines it, origin + (lo + i) h.
 
 The merge pass is race-free because each node has at most one ghost
-(stages.py: images are not ghosts, and a period of at least 4 cells keeps
+(contract/stages.py: images are not ghosts, and a period of at least 4 cells keeps
 two ghosts of one window from sharing an image).
 """
 

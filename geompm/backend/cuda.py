@@ -33,12 +33,12 @@ from __future__ import annotations
 import numpy as np
 from numba import cuda
 
-from geompm.engine.grid import GridView, window_extent
-from geompm.engine.timestep import step_limit
+from geompm.mpm.grid import GridView, window_extent
+from geompm.backend.timestep import step_limit
 from geompm.kernels.reduce import cells_of_bounds, max_rate
 from geompm.kernels.shape import support
 from geompm.kernels.stencil import SCHEMES
-from geompm.stages import FAR_NODE
+from geompm.contract.stages import FAR_NODE
 from geompm.backend import cuda_kernels as K
 from geompm.backend import cuda_loops, cuda_sort
 from geompm.backend.base import Backend
@@ -215,7 +215,7 @@ class CudaBackend(Backend):
     # -- stages ------------------------------------------------------------------------------------------
     def _table(self, stage, kind: str, aux):
         """The stage's ``aux`` on the device, uploaded once per array object: a table is read-only once
-        handed over, and a stage that changes it hands a new array (stages.py)."""
+        handed over, and a stage that changes it hands a new array (contract/stages.py)."""
         key = (id(stage), kind)
         held = self._tables.get(key)
         if held is None or held[0] is not aux:

@@ -11,7 +11,7 @@ node are taken in thread order: results equal the CPU's to round-off, not
 bit for bit.  Shapes: ``d`` (2 or 3) is read from the arrays; per-thread
 scratch is a local array of the largest size (3 axes, 4 weights).
 
-Arrays are as on the CPU (engine/state.py, engine/grid.py): p_x (n, d),
+Arrays are as on the CPU (mpm/state.py, mpm/grid.py): p_x (n, d),
 p_C (n, d, d), p_L (n, 3, 3), p_stress (n, 6) Voigt (xx, yy, zz, xy, yz, xz),
 g_mass (nn,), g_mom / g_force / g_vel / g_vel_old (nn, d) over the window
 [lo, lo + nloc) of global nodes, last axis fastest.

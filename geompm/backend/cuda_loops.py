@@ -19,7 +19,7 @@ A thread's ``work`` scratch and ``out`` accumulator are local arrays whose
 sizes are compiled into the kernel (the stage's ``node_scratch`` and
 reduction length); a thread adds its ``out`` into the pass's single row with
 atomics, taking the maximum instead for the slots a stage lists in
-``node_maxima`` / ``particle_maxima`` (stages.py).  The kernels are made
+``node_maxima`` / ``particle_maxima`` (contract/stages.py).  The kernels are made
 per process (exec'd source, not cached on disk); each keeps the recipe that builds it again
 (``__geompm_recipe__``), from which backend/cuda_ptx.py compiles it for a GPU without one.
 """

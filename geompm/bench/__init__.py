@@ -1,0 +1,1 @@
+"""``geompm bench``: the standard scenes, each timed in a fresh process (``worker.py``), streamed (``stream.py``)."""

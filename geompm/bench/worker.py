@@ -59,7 +59,7 @@ def measure(case: str, steps: int, sets: list[str], permute: bool = False) -> di
     from geompm.api import scene_from_file
     from geompm.engine.runner import Runner
     from geompm.engine.scheduler import Simulation
-    from geompm.resources import peak_rss
+    from geompm.mpm.memory import peak_rss
 
     t_load = time.perf_counter()
     scene = scene_from_file(case, sets)

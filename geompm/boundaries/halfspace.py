@@ -5,7 +5,7 @@ On grid nodes: every node whose signed distance (x_i - point) . n is <=
 ``friction``), n the unit normal pointing from the surface into the material.
 On particles, after G2P: a particle that still ended behind the surface is
 put back on it, so none is ever deeper than round-off (a fast particle, or a
-plane that cuts the cells between nodes, can end a step behind it).  Both are per-item functions run by the backend (stages.py).
+plane that cuts the cells between nodes, can end a step behind it).  Both are per-item functions run by the backend (contract/stages.py).
 """
 
 from __future__ import annotations
@@ -13,9 +13,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from geompm.layout import pack_in_layout, param_layout
-from geompm.stages import NO_AUX, GridStage, ParticleStage
-from geompm.boundaries.contact import CONDITIONS, ON_SURFACE, apply_condition
+from geompm.contract.layout import pack_in_layout, param_layout
+from geompm.contract.stages import NO_AUX, GridStage, ParticleStage
+from geompm.contact.rules import CONDITIONS, ON_SURFACE, apply_condition
 
 #: packed parameters: a point on the surface [m] and the unit normal into the material (3 slots each,
 #: 2D uses the first two), the contact condition (contact.CONDITIONS), the Coulomb coefficient [-],
@@ -79,7 +79,7 @@ class HalfSpace(GridStage, ParticleStage):
 
     def surface(self):
         """The plane clipped to the grid's box (a segment in 2D)."""
-        from geompm.obstacles.tessellate import plane_surface
+        from geompm.contact.tessellate import plane_surface
 
         g = self.grid
         return plane_surface(self.point, self.normal, g.origin, g.upper, g.h)

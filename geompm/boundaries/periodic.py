@@ -8,7 +8,7 @@ update each ghost and its image are merged,
     v = (m_ghost v_ghost + m_image v_image) / (m_ghost + m_image),
 which equals folding mass, momentum and force before the update because the
 explicit update is linear per node.  The stage gives the image of a node index
-(``node_image``) and the backend merges (stages.py); the scheduler runs it
+(``node_image``) and the backend merges (contract/stages.py); the scheduler runs it
 before every other grid stage (``phase = MERGE``).
 """
 
@@ -20,9 +20,9 @@ from typing import Literal
 from numba import njit
 from pydantic import Field
 
-from geompm.layout import pack_in_layout, param_layout
-from geompm.plugin import Params
-from geompm.stages import MERGE, NO_AUX, GridStage, ParticleStage
+from geompm.contract.layout import pack_in_layout, param_layout
+from geompm.contract.plugin import Params
+from geompm.contract.stages import MERGE, NO_AUX, GridStage, ParticleStage
 
 #: packed parameters: the periodic axis, its cell count, the grid's lower coordinate on it [m], the period [m]
 PERIODIC = param_layout("axis", "ncells", "lo_x", "period")

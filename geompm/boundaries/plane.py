@@ -24,7 +24,7 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, field_validator
 
-from geompm.plugin import Params, vector_length_problems
+from geompm.contract.plugin import Params, vector_length_problems
 from geompm.boundaries.halfspace import HalfSpace
 
 

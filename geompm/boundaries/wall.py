@@ -17,8 +17,8 @@ from typing import Literal
 import numpy as np
 from pydantic import Field
 
-from geompm.plugin import Params
-from geompm.stages import FAR_NODE
+from geompm.contract.plugin import Params
+from geompm.contract.stages import FAR_NODE
 from geompm.boundaries.halfspace import HalfSpace
 
 SIDES = ("x-", "x+", "y-", "y+", "z-", "z+")

@@ -25,8 +25,8 @@ import numpy as np
 from numba import njit
 from pydantic import Field
 
-from geompm.plugin import Params
-from geompm.stages import DAMPING, NO_AUX, ParticleStage
+from geompm.contract.plugin import Params
+from geompm.contract.stages import DAMPING, NO_AUX, ParticleStage
 
 
 class ArtificialParams(Params):

@@ -21,9 +21,9 @@ import numpy as np
 from numba import njit
 from pydantic import Field
 
-from geompm.layout import pack_in_layout, param_layout
-from geompm.plugin import Params
-from geompm.stages import DAMPING, NO_AUX, GridStage
+from geompm.contract.layout import pack_in_layout, param_layout
+from geompm.contract.plugin import Params
+from geompm.contract.stages import DAMPING, NO_AUX, GridStage
 
 #: packed parameters: gravity [m/s2] (3 slots, 2D uses two), alpha [-], the mass below which a node is empty [kg]
 LOCAL = param_layout("gravity_x", "gravity_y", "gravity_z", "alpha", "mass_eps")

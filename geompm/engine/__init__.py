@@ -1,1 +1,3 @@
-"""State, grid window, time-step control and the scheduler (time loop of stages)."""
+"""The time loop: the scheduler that orders a step's stages on a backend (``scheduler.py``), the runner that
+drives writers, checkpoints and progress (``runner.py``), the health checks (``health.py``), checkpoints
+(``checkpoint.py``) and the time-step report (``estimate.py``)."""

@@ -17,10 +17,10 @@ from pathlib import Path
 
 import numpy as np
 
-from geompm import __version__
+from geompm.version import __version__
 from geompm.errors import CaseError
-from geompm.fileio import atomic_path
-from geompm.ownership import remove_file
+from geompm.files.atomic import atomic_path
+from geompm.files.ownership import remove_file
 
 FOLDER = "checkpoints"
 

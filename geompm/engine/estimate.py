@@ -92,7 +92,7 @@ def _duration(seconds: float) -> str:
 
 def step_report(scene) -> StepReport:
     """The first step's limits, and what each material's other integration would make of them."""
-    from geompm.engine.timestep import viscous_limit, wave_limit
+    from geompm.backend.timestep import viscous_limit, wave_limit
 
     st = scene.state
     dt_wave, dt_visc = wave_limit(scene, st), viscous_limit(scene)

@@ -28,7 +28,7 @@ import numpy as np
 from numba import njit, prange
 
 from geompm.errors import SimulationError
-from geompm.engine.timestep import viscous_limit, wave_speed
+from geompm.backend.timestep import viscous_limit, wave_speed
 
 
 @njit(parallel=True, cache=True)

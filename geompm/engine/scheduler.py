@@ -15,7 +15,7 @@ backend's (backend/base.py).
 
 Only the stages the case asks for are in the lists; a case without damping
 has no damping pass.  Stages are ordered by their declared ``phase``
-(stages.py), never by plugin name; each gives per-node or per-particle
+(contract/stages.py), never by plugin name; each gives per-node or per-particle
 functions that the backend runs (``grid_stage``, ``particle_stage``).
 """
 
@@ -25,7 +25,7 @@ import numpy as np
 
 from geompm.backend import make_backend
 from geompm.kernels.reduce import kinetic_energy, max_coordinate, max_coordinate_by_group
-from geompm.stages import GridStage, ParticleStage
+from geompm.contract.stages import GridStage, ParticleStage
 
 
 class Simulation:

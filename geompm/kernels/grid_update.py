@@ -2,7 +2,7 @@
 
 v_old_i = (mv)_i / m_i,  v_i = v_old_i + dt (f_i / m_i + g)
 for nodes with m_i > mass_eps; other nodes get zero velocity.  When P2G has
-folded the force into the momentum ((mv)_i + dt f_i, engine/grid.py), the
+folded the force into the momentum ((mv)_i + dt f_i, mpm/grid.py), the
 update is v_i = ((mv)_i + dt f_i) / m_i + dt g (``grid_update_folded``).
 Arrays: g_mass (nn,), g_mom/g_force/g_vel/g_vel_old (nn, d), gravity (d,) [m/s2].
 """

@@ -120,7 +120,7 @@ def max_projection(p_x, origin, direction):
 @njit(parallel=True, cache=True)
 def max_rate(p_L):
     """Largest stretching rate |L_ii| over the particles [1/s] (the strain-increment step limit,
-    engine/timestep.py)."""
+    backend/timestep.py)."""
     m = 0.0
     for p in prange(p_L.shape[0]):
         m = max(m, max(abs(p_L[p, 0, 0]), max(abs(p_L[p, 1, 1]), abs(p_L[p, 2, 2]))))

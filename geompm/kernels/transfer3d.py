@@ -11,7 +11,7 @@ are register tuples and the support a compile-time constant (``tag``,
 stencil.py).  Same particle arrays and, with split force, the same results to
 rounding as the reference (tests/test_transfer_specialised.py); the private P2G
 grids are interleaved (``c_grid``), and P2G may fold the force into the
-momentum (engine/grid.py).  ``scheme`` (stencil.scheme_tag) selects PIC, APIC, FLIP or MLS at
+momentum (mpm/grid.py).  ``scheme`` (stencil.scheme_tag) selects PIC, APIC, FLIP or MLS at
 compile time; MLS-MPM (Hu et al. 2018): the
 force through grad w ~ D^-1 w (x_i - x_p) and L = C.
 """

@@ -4,7 +4,7 @@ A material is a ``Plugin`` with:
 
 - ``Params``: pydantic model of its parameters (SI units, bounds as validators);
 - ``state_vars``: names of its per-particle state variables (``p_state (n, k)``);
-- ``layout``: the names of its packed parameters (layout.py), read in the kernels as
+- ``layout``: the names of its packed parameters (contract/layout.py), read in the kernels as
   ``prm[LAYOUT.name]``;
 - ``pack(params) -> dict``: those parameters by name (SI units), derived from ``Params``;
 - ``particle_stress(prm, dt, L, rho, s, state)``: an ``@njit`` function (no explicit
@@ -35,8 +35,8 @@ from typing import ClassVar
 import numpy as np
 from pydantic import Field
 
-from geompm.plugin import Params, Plugin
-from geompm.layout import pack_in_layout, param_layout
+from geompm.contract.plugin import Params, Plugin
+from geompm.contract.layout import pack_in_layout, param_layout
 from geompm.materials.plausible import DENSITY
 
 
@@ -55,7 +55,7 @@ class Material(Plugin):
     #: array creation, no np.linalg, no Python objects), checked against the CPU under numba-cuda's
     #: simulator (tests/cuda_parity.py) and compiled for a GPU (tests/cuda_compile.py), may add "cuda"
     backends: ClassVar[tuple[str, ...]] = ("cpu",)
-    #: names of the packed parameters (layout.py)
+    #: names of the packed parameters (contract/layout.py)
     layout: ClassVar = param_layout("density")
     #: parameter ranges outside which a value looks like a wrong unit (plausible.py): warned, never refused
     plausible: ClassVar[tuple] = (DENSITY,)
@@ -106,15 +106,3 @@ class Material(Plugin):
     def initial_state(self, n: int) -> np.ndarray:
         return np.zeros((n, len(self.state_vars)))
 
-    def update_stress(self, dt, p_L, p_rho, p_stress, p_state) -> float:
-        """Advance the stress of a block of particles in place, through the backend's loop (the one
-        the engine runs); returns the block's largest stretching rate |L_ii| [1/s]."""
-        from geompm.backend.cpu_loops import block_loops
-
-        return float(block_loops(type(self))[0](self.prm, dt, p_L, p_rho, p_stress, p_state))
-
-    def wave_speed(self, p_rho) -> float:
-        """Largest wave speed [m/s] over a block of particles with densities ``p_rho``."""
-        from geompm.backend.cpu_loops import block_loops
-
-        return float(block_loops(type(self))[1](self.prm, p_rho))

@@ -23,7 +23,7 @@ from numba import njit
 from pydantic import Field
 
 from geompm.materials.fluid import evp_yield_stress, set_fluid_stress, shear_rate
-from geompm.layout import param_layout
+from geompm.contract.layout import param_layout
 from geompm.materials.tait import EOS, YieldFluid, YieldFluidParams, eos_pressure
 
 #: packed parameters: EOS, mu_B [Pa s], tau_B [Pa], M [s]

@@ -24,9 +24,9 @@ import math
 from numba import njit
 from pydantic import Field, model_validator
 
-from geompm.plugin import Params
+from geompm.contract.plugin import Params
 from geompm.materials.fluid import equivalent_shear, evp_trial, set_fluid_stress, set_scaled_trial, shear_rate
-from geompm.layout import param_layout
+from geompm.contract.layout import param_layout
 from geompm.materials.tait import EOS, YieldFluid, YieldFluidParams, eos_pressure
 
 #: packed parameters: EOS, mu_0 and mu_inf [Pa s], A [s], m [-]

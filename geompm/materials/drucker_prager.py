@@ -49,7 +49,7 @@ import numpy as np
 from numba import njit
 from pydantic import Field, model_validator
 
-from geompm.layout import param_layout
+from geompm.contract.layout import param_layout
 from geompm.materials.plasticity import (ELASTIC, ElastoplasticParams, FrictionalMaterial, current_moduli, kirchhoff_trial,
                          set_scaled_deviator, sqrt_j2)
 

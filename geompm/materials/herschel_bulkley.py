@@ -16,7 +16,7 @@ gamma_dot = sqrt(2 D':D') (fluid.py).
 
 The largest viscosity the law can take, min(mu_max, tau_y M + K) for n = 1
 and mu_max otherwise, sets the explicit viscous time-step limit
-dt <= rho h^2 / (2 d mu_max) (engine/timestep.py).  Debris-flow practice uses
+dt <= rho h^2 / (2 d mu_max) (backend/timestep.py).  Debris-flow practice uses
 this rheology for muds (Coussot 1997, Mudflow Rheology and Dynamics).
 """
 
@@ -27,7 +27,7 @@ import math
 from numba import njit
 from pydantic import Field, model_validator
 
-from geompm.layout import param_layout
+from geompm.contract.layout import param_layout
 from geompm.materials.fluid import evp_yield_stress, set_fluid_stress, shear_rate
 from geompm.materials.tait import EOS, YieldFluid, YieldFluidParams, eos_pressure
 

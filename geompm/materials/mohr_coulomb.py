@@ -24,7 +24,7 @@ from numba import njit
 from pydantic import model_validator
 
 from geompm.kernels.eigen3 import sym_eig3
-from geompm.layout import param_layout
+from geompm.contract.layout import param_layout
 from geompm.materials.plasticity import ELASTIC, ElastoplasticParams, FrictionalMaterial, current_moduli, kirchhoff_trial
 
 #: packed parameters: ELASTIC, sin and cos of phi, sin psi, cohesion c [Pa], dilatancy cut-off eps_v^p [-]

@@ -15,7 +15,7 @@ from pydantic import Field
 
 from geompm.materials.base import MaterialParams
 from geompm.materials.fluid import set_fluid_stress
-from geompm.layout import param_layout
+from geompm.contract.layout import param_layout
 from geompm.materials.tait import EOS, TaitFluid, eos_pressure
 
 #: packed parameters: EOS, dynamic viscosity mu [Pa s]

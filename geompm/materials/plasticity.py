@@ -17,7 +17,7 @@ from pydantic import Field
 from geompm.kernels.voigt import jaumann_increment
 from geompm.materials.base import Material, MaterialParams
 from geompm.materials.plausible import COHESION, DENSITY, YOUNGS_MODULUS, angle
-from geompm.layout import param_layout
+from geompm.contract.layout import param_layout
 
 #: the first slots of every law with an isotropic elastic part: rho0 [kg/m3], Lame lambda and G [Pa]
 ELASTIC = param_layout("density", "lam", "G")

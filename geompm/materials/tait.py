@@ -22,7 +22,7 @@ from numba import njit
 from pydantic import Field
 
 from geompm.materials.base import Material, MaterialParams
-from geompm.layout import param_layout
+from geompm.contract.layout import param_layout
 
 #: the first slots of every Tait-EOS law; shear_modulus [Pa] is 0 except under the elasto-viscoplastic
 #: integration (fluid.py)

@@ -14,9 +14,9 @@ from typing import Literal
 import numpy as np
 from pydantic import Field
 
-from geompm.plugin import vector_length_problems
+from geompm.contract.plugin import vector_length_problems
 from geompm.obstacles.base import ObstacleParams, RigidObstacle
-from geompm.obstacles.tessellate import box_surface, cylinder_surface, sphere_surface
+from geompm.contact.tessellate import box_surface, cylinder_surface, sphere_surface
 
 
 class BoxParams(ObstacleParams):

@@ -5,7 +5,7 @@ metres) on a lattice of spacing h in its own frame, covering its bounding box
 plus two cells.  Each step every window node within the obstacle's reach is
 looked up (trilinear interpolation; exact on static obstacles whose lattice
 coincides with the grid), and nodes with phi <= ``contact_layer`` get the
-contact rule of boundaries/contact.py with the outward normal grad(phi)/|grad(phi)|,
+contact rule of contact/rules.py with the outward normal grad(phi)/|grad(phi)|,
 applied to the velocity relative to the obstacle's prescribed velocity
 (velocity-based grid contact of rigid-boundary MPM; Bardenhagen et al. 2000).
 
@@ -22,12 +22,12 @@ from numba import njit
 from pydantic import Field
 
 from geompm.errors import CaseError
-from geompm.plugin import Params, vector_length_problems
-from geompm.resources import require_memory
-from geompm.obstacles.contact_force import FACES_GRID, OBSTACLE, contact_and_record, record_on_face
-from geompm.obstacles.guard import guard_rule, guard_spacing
-from geompm.obstacles.recorded import ContactForceStage
-from geompm.obstacles.sdf_field import face_lattice_ids, interp_field, lattice_bytes_per_point, lattice_size, sdf_lattice
+from geompm.contract.plugin import Params, vector_length_problems
+from geompm.mpm.memory import require_memory
+from geompm.contact.force import FACES_GRID, OBSTACLE, contact_and_record, record_on_face
+from geompm.contact.guard import guard_rule, guard_spacing
+from geompm.contact.recorded import ContactForceStage
+from geompm.contact.sdf_field import face_lattice_ids, interp_field, lattice_bytes_per_point, lattice_size, sdf_lattice
 
 O = OBSTACLE
 

@@ -4,7 +4,7 @@ The mesh is scaled, rotated (``rotate``: degrees about x, then y, then z) and
 translated, in that order, into the case's frame [m].  It must be watertight
 (a closed surface): the signed distance and the inside/outside test need it.
 Open surfaces (``thin``) are not supported: close the mesh in your CAD tool
-(or give the wall a thickness).  Signed distance from libigl (geometry.mesh_signed_distance).
+(or give the wall a thickness).  Signed distance from libigl (files/mesh.py).
 """
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ import numpy as np
 from pydantic import Field
 
 from geompm.errors import CaseError
-from geompm.fileio import case_relative, unreadable_file
-from geompm.geometry import load_surface_mesh, mesh_signed_distance, mesh_size_problem
+from geompm.files.atomic import case_relative, unreadable_file
+from geompm.files.mesh import load_surface_mesh, mesh_signed_distance, mesh_size_problem
 from geompm.obstacles.base import ObstacleParams, RigidObstacle
 
 
@@ -59,7 +59,7 @@ class RigidMesh(RigidObstacle):
         super().setup(scene)
 
     def surface(self):
-        from geompm.obstacles.tessellate import refine_triangles
+        from geompm.contact.tessellate import refine_triangles
 
         return refine_triangles(self.mesh.vertices, self.mesh.faces, self.grid.h)
 
@@ -69,8 +69,8 @@ class RigidMesh(RigidObstacle):
 
     def thinnest(self):
         """The mesh's thinnest part [m]: the shortest chord from a face's centre into the solid along its
-        inward normal (obstacles/thickness.py)."""
-        from geompm.obstacles.thickness import thinnest_part
+        inward normal (contact/thickness.py)."""
+        from geompm.contact.thickness import thinnest_part
 
         return thinnest_part(self.mesh.vertices, self.mesh.faces, self.mesh.face_normals)
 

@@ -3,7 +3,7 @@
 The ground is the solid below the height field z = H(x, y), H bilinear
 between the DEM's pixel centres (dem.py), in the case's frame: the DEM's map
 coordinates [m].  Contact is the rule every rigid surface uses
-(boundaries/contact.py: ``friction`` by default, ``slip``, ``fixed``) on the
+(contact/rules.py: ``friction`` by default, ``slip``, ``fixed``) on the
 nodes whose signed distance phi <= ``contact_layer``, and after G2P a
 particle below the surface is put back on it (phi exact to the method below,
 so none is deeper than its error); the momentum both remove is the terrain's
@@ -36,13 +36,13 @@ from numba import njit
 from pydantic import Field
 
 from geompm.errors import CaseError
-from geompm.fileio import case_relative, unreadable_file
-from geompm.layout import param_layout
-from geompm.plugin import Params
-from geompm.stages import FAR_NODE
-from geompm.obstacles.contact_force import COUNT, DEPTH, FACES_GRID, FACES_GUARD, OBSTACLE, contact_and_record
-from geompm.obstacles.dem import bilinear, read_dem
-from geompm.obstacles.recorded import ContactForceStage
+from geompm.files.atomic import case_relative, unreadable_file
+from geompm.contract.layout import param_layout
+from geompm.contract.plugin import Params
+from geompm.contract.stages import FAR_NODE
+from geompm.contact.force import COUNT, DEPTH, FACES_GRID, FACES_GUARD, OBSTACLE, contact_and_record
+from geompm.files.dem import bilinear, read_dem
+from geompm.contact.recorded import ContactForceStage
 
 #: the obstacle slots (contact_force.OBSTACLE) and the DEM's lattice: first pixel centre [m], pixel size [m],
 #: pixels per axis, the cosine of its steepest slope
@@ -223,7 +223,7 @@ class Terrain(ContactForceStage):
 
     def surface(self):
         """Two triangles per DEM cell, vertices at the pixel centres (the heights the contact interpolates)."""
-        from geompm.obstacles.tessellate import heightfield_surface
+        from geompm.contact.tessellate import heightfield_surface
 
         d = self.dem
         nx, ny = d.z.shape

@@ -10,7 +10,7 @@ else is installed where it was generated.
 
 from __future__ import annotations
 
-from geompm import registry
+from geompm.contract import registry
 from geompm.schema.case import Case
 
 

@@ -19,10 +19,10 @@ from pathlib import Path
 import numpy as np
 from pydantic import ValidationError
 
-from geompm import registry
+from geompm.contract import registry
 from geompm.errors import CaseError, join_path
-from geompm.fileio import case_relative, unreadable_file
-from geompm.resources import available_memory, grid_bytes, particle_bytes, window_nodes
+from geompm.files.atomic import case_relative, unreadable_file
+from geompm.mpm.memory import available_memory, grid_bytes, particle_bytes, window_nodes
 from geompm.schema.case import Case, DampingSpec, MaterialSpec, OutputSpec, PluginSpec
 from geompm.schema.errors import format_validation_error
 from geompm.schema.raw_checks import TOO_DEEP, merge, raw_problems
@@ -234,7 +234,7 @@ def _check_body(i, body, case: Case, base_dir: Path, problems):
         problem = unreadable_file(case_relative(base_dir, geom.file), geom.file)
         if problem:
             problems.append((f"{gpath}.file", f"mesh {problem}"))
-    else:  # release bodies from GIS files (release.py)
+    else:  # release bodies from GIS files (setup/release.py)
         if dim != 3:
             problems.append((f"{gpath}.type", f"a '{geom.type}' body needs a 3D case (it fills a DEM surface)"))
         if geom.type == "release_polygon" and (geom.thickness is None) == (geom.thickness_attribute is None):

@@ -27,8 +27,8 @@ from pathlib import Path
 import numpy as np
 
 from geompm.errors import CaseError
-from geompm.fileio import atomic_write_json
-from geompm.ownership import holds_only, prepare_folder
+from geompm.files.atomic import atomic_write_json
+from geompm.files.ownership import holds_only, prepare_folder
 from geompm.schema.load import load_case
 from geompm.study import metrics as M
 from geompm.study.execute import Pool, add_threads_option, check_threads, finished, run_variant, threads_per_run, variant_case
@@ -263,9 +263,10 @@ def _report(args, out, soils, tried, evaluations, refs, folders, bounds) -> int:
     if fit:
         print(f"linear fit: {name} = {fit[0]:.4g} + {fit[1]:.4g} h, R^2 = {fit[2]:.4f}")
     try:
-        from geompm.study.calibrate_plot import plot_calibration
+        from geompm.plots.calibration import plot_calibration
 
-        plot_calibration(out / "calibration.png", done, refs, folders, fit, name)
+        fluids = {r["cell_size"]: M.read_run(_eval_dir(folders[r["cell_size"]], r["value"]))[0] for r in done}
+        plot_calibration(out / "calibration.png", done, refs, fluids, fit, name, SOURCE_MU_INF)
         print(f"wrote {out / 'calibration.csv'}, {out / 'calibration.png'}")
     except ImportError:
         print(f"wrote {out / 'calibration.csv'} (calibration.png needs matplotlib)")

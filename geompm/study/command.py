@@ -17,8 +17,8 @@ import sys
 from pathlib import Path
 
 from geompm.errors import CaseError
-from geompm.fileio import atomic_write_json
-from geompm.ownership import holds_only, prepare_folder
+from geompm.files.atomic import atomic_write_json
+from geompm.files.ownership import holds_only, prepare_folder
 from geompm.schema.load import apply_overrides, load_case, read_json
 from geompm.study import metrics as M
 from geompm.study import report
@@ -72,12 +72,14 @@ def _variant_label(v) -> str:
 def validate_all(case: str, variants, common: list[str]) -> None:
     """Every variant through all the case checks (schema, plugins, assembly); one CaseError listing all
     problems, before any run."""
-    from geompm.assemble import assemble
+    from geompm.engine.first_step import check_output_intervals
+    from geompm.setup.assemble import assemble
 
     problems = []
     for v in variants:
         try:
-            assemble(load_case(case, common + v.sets))
+            loaded = load_case(case, common + v.sets)
+            check_output_intervals(assemble(loaded), loaded.case.outputs)
         except CaseError as exc:
             problems += [(f"{_variant_label(v)}: {path}", msg) for path, msg in exc.problems]
     if problems:

@@ -26,24 +26,15 @@ reference's times.  Scalar errors are relative: |a - r| / |r|.
 
 from __future__ import annotations
 
-import csv
 import json
 import math
 from pathlib import Path
 
 import numpy as np
 
+from geompm.writers.series import read_series
+
 SERIES_DEFAULT = ("front_x", "kinetic_energy")
-
-
-def read_series(path: str | Path) -> dict[str, np.ndarray]:
-    """Columns of a CSV with a header row, as float arrays (``time`` first)."""
-    with open(path, newline="") as fh:
-        rows = list(csv.reader(fh))
-    if not rows or "time" not in rows[0]:
-        raise ValueError(f"{path}: a CSV with a 'time' column is needed")
-    head, body = rows[0], [r for r in rows[1:] if len(r) == len(rows[0])]
-    return {c: np.array([float(r[i]) for r in body]) for i, c in enumerate(head)}
 
 
 def obstacle_labels(series: dict) -> list[str]:

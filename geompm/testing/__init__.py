@@ -1,5 +1,5 @@
 """Reusable test suites for plugins (import them from a third-party package's tests)."""
 
-from geompm.testing.conformance import MATERIAL_CHECKS, check_material
+from geompm.testing.conformance import MATERIAL_CHECKS, check_material, update_stress
 
-__all__ = ["MATERIAL_CHECKS", "check_material"]
+__all__ = ["MATERIAL_CHECKS", "check_material", "update_stress"]

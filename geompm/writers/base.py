@@ -14,12 +14,15 @@ from __future__ import annotations
 from pathlib import Path
 from typing import ClassVar
 
-from geompm.plugin import Plugin
+from geompm.contract.plugin import Plugin
 
 
 class Writer(Plugin):
     #: whether the obstacles must spread their contact force onto their faces (recorded.ContactForceStage)
     wants_face_forces: ClassVar[bool] = False
+    #: the files it writes, as glob patterns relative to the run folder (geompm.run's Run.outputs and
+    #: geompm plot find them through this)
+    files: ClassVar[tuple[str, ...]] = ()
 
     def __init__(self, params, interval: float):
         self.params = params

@@ -40,8 +40,8 @@ from numba import njit
 from pydantic import Field
 
 from geompm.errors import CaseError
-from geompm.fileio import atomic_path, atomic_write_json, case_relative
-from geompm.plugin import Params
+from geompm.files.atomic import atomic_path, atomic_write_json, case_relative
+from geompm.contract.plugin import Params
 from geompm.writers.base import Writer
 
 NODATA = -9999.0
@@ -100,6 +100,7 @@ def accumulate(sums, area, threshold, time, depth, depth_max, speed_max, pressur
 
 class HazardMapWriter(Writer):
     name = "hazard_maps"
+    files = ("maps/*.tif", "maps/summary.json")
     description = "GeoTIFF hazard maps on the DEM: max depth, speed, pressure, energy, arrival time, deposit (3D)"
     Params = HazardMapParams
 
@@ -115,7 +116,7 @@ class HazardMapWriter(Writer):
         return []
 
     def _raster(self, sim):
-        from geompm.obstacles.dem import read_dem
+        from geompm.files.dem import read_dem
         from geompm.obstacles.terrain import Terrain
 
         if self.params.dem is not None:

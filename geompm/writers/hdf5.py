@@ -25,9 +25,10 @@ from pathlib import Path
 import numpy as np
 from pydantic import Field
 
-from geompm import __version__, registry
-from geompm.fileio import atomic_path
-from geompm.plugin import Params
+from geompm.contract import registry
+from geompm.version import __version__
+from geompm.files.atomic import atomic_path
+from geompm.contract.plugin import Params
 from geompm.writers.base import Writer
 from geompm.writers.vtu import _pad3, particle_fields
 
@@ -49,6 +50,7 @@ def _plugin_versions() -> dict[str, str]:
 
 class Hdf5Writer(Writer):
     name = "hdf5"
+    files = ("results.h5", "results/particles_*.h5")
     description = "HDF5 results: series, particle fields per output time, case and versions (h5py)"
     Params = Hdf5Params
 

@@ -11,7 +11,7 @@ with x_front the largest (x_p - origin) . direction (the front measured along
 the slope from the column's back), m the total mass and g = |gravity|.  Each
 row is written with one call and flushed, so a crash loses at most the row
 being written.  With ``deposit_threshold`` (2D) it adds ``deposit_front`` [m],
-the largest x where the deposit is at least that thick (geompm.study.deposit:
+the largest x where the deposit is at least that thick (geompm.writers.deposit:
 a front that one particle rolling ahead cannot move), and ``deposit_height``
 [m], the deposit's largest thickness averaged over a window as wide as the
 threshold.
@@ -19,14 +19,16 @@ threshold.
 
 from __future__ import annotations
 
+import csv
 import os
+from pathlib import Path
 
 import numpy as np
 from pydantic import Field
 
 from geompm.kernels.reduce import max_projection
-from geompm.plugin import Params
-from geompm.study.deposit import front_of, height_of, thickness_profile
+from geompm.contract.plugin import Params
+from geompm.writers.deposit import front_of, height_of, thickness_profile
 from geompm.writers.base import Writer
 
 
@@ -41,12 +43,13 @@ class SeriesParams(Params):
     normalise: Normalise | None = Field(None, description="Add T_star, X_star, K_star columns")
     deposit_threshold: float | None = Field(
         None, gt=0, description="2D: add the column deposit_front [m], the largest x where the deposit is at "
-        "least this thick [m] (geompm.study.deposit; e.g. 0.05 H0), and deposit_height [m]; geompm study then takes "
+        "least this thick [m] (geompm.writers.deposit; e.g. 0.05 H0), and deposit_height [m]; geompm study then takes "
         "them as the runout and the height")
 
 
 class SeriesWriter(Writer):
     name = "series"
+    files = ("series.csv",)
     description = "series.csv: time, step, dt, kinetic energy, front position and stage quantities"
     Params = SeriesParams
 
@@ -122,3 +125,13 @@ class SeriesWriter(Writer):
     def close(self, sim):
         os.fsync(self.fd)
         os.close(self.fd)
+
+
+def read_series(path: str | Path) -> dict[str, np.ndarray]:
+    """Columns of a CSV with a header row, as float arrays (``time`` first)."""
+    with open(path, newline="") as fh:
+        rows = list(csv.reader(fh))
+    if not rows or "time" not in rows[0]:
+        raise ValueError(f"{path}: a CSV with a 'time' column is needed")
+    head, body = rows[0], [r for r in rows[1:] if len(r) == len(rows[0])]
+    return {c: np.array([float(r[i]) for r in body]) for i, c in enumerate(head)}

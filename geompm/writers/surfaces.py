@@ -28,8 +28,8 @@ from __future__ import annotations
 import numpy as np
 from pydantic import Field
 
-from geompm.fileio import atomic_path, atomic_write_text
-from geompm.plugin import Params
+from geompm.files.atomic import atomic_path, atomic_write_text
+from geompm.contract.plugin import Params
 from geompm.writers.base import Writer
 from geompm.writers.vtu import add_text_field
 
@@ -40,6 +40,7 @@ class SurfacesParams(Params):
 
 class SurfacesWriter(Writer):
     name = "surfaces"
+    files = ("surfaces.pvd", "surfaces/*.vtu")
     description = "ParaView series of every rigid surface (obstacles, planes, walls, terrain): VTU per time and a PVD"
     Params = SurfacesParams
     wants_face_forces = True

@@ -16,8 +16,8 @@ from __future__ import annotations
 import numpy as np
 from pydantic import Field
 
-from geompm.fileio import atomic_path, atomic_write_text
-from geompm.plugin import Params
+from geompm.files.atomic import atomic_path, atomic_write_text
+from geompm.contract.plugin import Params
 from geompm.writers.base import Writer
 
 
@@ -79,6 +79,7 @@ def particle_fields(sim) -> dict[str, np.ndarray]:
 
 class VtuWriter(Writer):
     name = "vtu"
+    files = ("particles.pvd", "particles/particles_*.vtu")
     description = "ParaView particle series: one VTU per output time and a PVD index"
     Params = VtuParams
 

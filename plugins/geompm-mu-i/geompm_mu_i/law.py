@@ -30,7 +30,7 @@ from pydantic import Field, model_validator
 from geompm.materials.base import Material, MaterialParams
 from geompm.materials.plausible import DENSITY, YOUNGS_MODULUS, Plausible
 from geompm.materials.fluid import shear_rate
-from geompm.layout import param_layout
+from geompm.contract.layout import param_layout
 from geompm.materials.plasticity import (ELASTIC, current_moduli, kirchhoff_trial, elastic_wave_speed,
                                          set_scaled_deviator, sqrt_j2)
 

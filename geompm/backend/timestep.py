@@ -23,6 +23,7 @@ limit dt <= rho h^2 / (2 d mu).  A fixed ``time.dt`` replaces all of this.
 
 from __future__ import annotations
 
+from geompm.backend.cpu_loops import law_wave_speed
 from geompm.kernels.reduce import max_rate, max_speed
 
 #: the largest stretching increment dt |L_ii| a step may take [-] (module docstring)
@@ -37,7 +38,7 @@ def wave_speed(scene, state, finite_only: bool = False, materials=None) -> float
     import numpy as np
 
     mats = scene.materials if materials is None else materials
-    return max((mat.wave_speed(state.p_rho[s:e]) for mat, (s, e) in zip(mats, state.blocks)
+    return max((law_wave_speed(mat, state.p_rho[s:e]) for mat, (s, e) in zip(mats, state.blocks)
                 if e > s and (not finite_only or np.isfinite(state.p_rho[s:e]).all())), default=0.0)
 
 

@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from geompm.study import metrics as M
-from geompm.study.calibrate import SOURCE_MU_INF
 
-
-def plot_calibration(path, rows, refs, folders, fit, name: str) -> None:
+def plot_calibration(path, rows, refs, fluids, fit, name: str, source: dict) -> None:
+    """rows: calibration.csv rows; refs and fluids: the soil run's and the best fluid run's series per cell
+    size; fit: (a, b, R^2) or None; source: the source study's values per cell size, drawn beside."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -19,7 +18,7 @@ def plot_calibration(path, rows, refs, folders, fit, name: str) -> None:
     for k, r in enumerate(rows):
         h, c = r["cell_size"], colors[k % len(colors)]
         soil = refs[h]
-        fluid, _ = M.read_run(folders[h] / f"fluid_{r['value']:.6g}")
+        fluid = fluids[h]
         for ax, col in zip(axes[:2], ("X_star", "K_star")):
             ax.plot(soil["T_star"], soil[col], "-", color=c, lw=1.5, label=f"DP, h = {h:g} m")
             ax.plot(fluid["T_star"], fluid[col], "--", color=c, lw=1.2, label=f"Cross {name} = {r['value']:.3g}")
@@ -37,8 +36,8 @@ def plot_calibration(path, rows, refs, folders, fit, name: str) -> None:
         x = np.linspace(0, hs.max() * 1.1, 50)
         ax.plot(x, fit[0] + fit[1] * x, "-", color="tab:blue", lw=1,
                 label=f"fit {fit[0]:.3g} + {fit[1]:.3g} h, R² = {fit[2]:.3f}")
-    sh = sorted(SOURCE_MU_INF)
-    ax.plot(sh, [SOURCE_MU_INF[h] for h in sh], "s--", color="tab:gray", label="source study (sec. 3.2)")
+    sh = sorted(source)
+    ax.plot(sh, [source[h] for h in sh], "s--", color="tab:gray", label="source study (sec. 3.2)")
     ax.set_xlabel("cell size h [m]")
     ax.set_ylabel(f"{name} [Pa s]")
     ax.grid(True, alpha=0.3)

@@ -68,7 +68,7 @@ def mark_folder(folder: str | Path, kind: str, adopted: bool = False) -> None:
     """Write the marker that makes ``folder`` a geompm output folder of ``kind``."""
     assert kind in KINDS, kind
     folder = Path(folder)
-    from geompm import __version__
+    from geompm.version import __version__
 
     text = json.dumps({"kind": kind, "path": str(_real(folder)), "geompm": __version__,
                        "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"), "adopted": adopted}, indent=2) + "\n"

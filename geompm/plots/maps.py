@@ -34,9 +34,9 @@ def plot_maps(run_dir: str | Path, out: Path) -> list[Path]:
     import rasterio
     from mpl_toolkits.axes_grid1.anchored_artists import AnchoredSizeBar
 
-    from geompm.plotting import _pyplot, _save
+    from geompm.plots.figure import pyplot, save
 
-    plt = _pyplot()
+    plt = pyplot()
     maps = Path(run_dir) / "maps"
     summary = json.loads((maps / "summary.json").read_text())
     threshold = summary.get("depth_threshold", 0.0)
@@ -69,5 +69,5 @@ def plot_maps(run_dir: str | Path, out: Path) -> list[Path]:
         ax.set_ylabel("northing [m]")
         ax.ticklabel_format(useOffset=False, style="plain")
         ax.set_title(f"{Path(run_dir).name}: {label}")
-        made.append(_save(fig, out / f"map_{name}.png"))
+        made.append(save(fig, out / f"map_{name}.png"))
     return made

@@ -7,7 +7,7 @@
   (the deposit profile at the last output), coloured by body and named by
   material, with the planes and obstacles drawn;
 - ``plot_run(run_dir)``: all of them for ``geompm plot``, with the hazard maps
-  (maps_plot.py) and the obstacles' face pressures (pressure_plot.py) when
+  (plots/maps.py) and the obstacles' face pressures (plots/pressure.py) when
   the run wrote them.
 """
 
@@ -17,10 +17,12 @@ from pathlib import Path
 
 import numpy as np
 
+from geompm.plots.figure import pyplot, save
+
 
 PNG_NAMES = ("series.png", "forces.png", "deposit.png", "map_depth_max.png", "map_speed_max.png",
              "map_pressure_max.png", "map_arrival.png", "map_deposit.png",
-             "pressure.png")  # what plot_run writes (maps_plot.py, pressure_plot.py)
+             "pressure.png")  # what plot_run writes (plots/maps.py, plots/pressure.py)
 
 
 def _load(series_csv):
@@ -29,24 +31,6 @@ def _load(series_csv):
 
 def obstacle_names(columns) -> list[str]:
     return sorted({c[: -len("_fn")] for c in columns if c.endswith("_fn")})
-
-
-def _pyplot():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
-def _save(fig, png) -> Path:
-    png = Path(png)
-    fig.tight_layout()
-    fig.savefig(png)
-    fig.clf()
-    _pyplot().close(fig)
-    return png
 
 
 def force_unit(dim: int) -> str:
@@ -59,7 +43,7 @@ def plot_obstacle_forces(series_csv: str | Path, png: str | Path, title: str = "
     """Each obstacle's force components and |F| at the series rows; the peak annotated is status.json's
     (``peaks``: label -> {peak_force, peak_time}), the largest |F| over every step, the figure the
     terminal, `geompm info` and `geompm study` report; without it the largest |F| of the rows."""
-    plt = _pyplot()
+    plt = pyplot()
     data = _load(series_csv)
     names = obstacle_names(data.dtype.names)
     if not names:
@@ -87,11 +71,11 @@ def plot_obstacle_forces(series_csv: str | Path, png: str | Path, title: str = "
     ax.set_title(title or Path(series_csv).parent.name)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    return _save(fig, png)
+    return save(fig, png)
 
 
 def plot_series(series_csv: str | Path, png: str | Path, title: str = "", dim: int = 3) -> Path:
-    plt = _pyplot()
+    plt = pyplot()
     data = np.atleast_1d(_load(series_csv))
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 6), dpi=120, sharex=True)
     ax1.plot(data["time"], data["kinetic_energy"], color="C0")
@@ -106,14 +90,14 @@ def plot_series(series_csv: str | Path, png: str | Path, title: str = "", dim: i
     for ax in (ax1, ax2):
         ax.grid(alpha=0.3)
     ax1.set_title(title or Path(series_csv).parent.name)
-    return _save(fig, png)
+    return save(fig, png)
 
 
 def plot_deposit(positions: np.ndarray, labels: np.ndarray, png: str | Path, title: str = "",
                  names: dict | None = None, surfaces: list | None = None) -> Path:
     """A 2D run's particles coloured by ``labels`` (``names``: label -> legend text, e.g. the material),
     with the rigid surfaces (``surfaces``: (label, tessellate.Surface) of the planes and obstacles) drawn."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 4), dpi=120)
     for b in np.unique(labels):
         sel = labels == b
@@ -133,7 +117,7 @@ def plot_deposit(positions: np.ndarray, labels: np.ndarray, png: str | Path, tit
     ax.set_ylabel("y [m]")
     ax.set_title(title)
     ax.legend(markerscale=4, fontsize=8)
-    return _save(fig, png)
+    return save(fig, png)
 
 
 def _rigid_surfaces(run_dir: Path) -> list:
@@ -158,7 +142,7 @@ def _rigid_surfaces(run_dir: Path) -> list:
 
 def plot_run(run_dir: str | Path, out_dir: str | Path | None = None) -> list[Path]:
     """PNGs of a run folder: series, obstacle forces, the 2D deposit at the last saved state, and the
-    hazard maps over a hillshade when the run wrote them (maps_plot.py)."""
+    hazard maps over a hillshade when the run wrote them (plots/maps.py)."""
     from geompm.engine import checkpoint
 
     import json
@@ -183,10 +167,10 @@ def plot_run(run_dir: str | Path, out_dir: str | Path | None = None) -> list[Pat
                                      f"{run_dir.name}: particles at t = {meta['time']:.4g} s", names,
                                      _rigid_surfaces(run_dir)))
     if (run_dir / "maps" / "summary.json").is_file():
-        from geompm.maps_plot import plot_maps
+        from geompm.plots.maps import plot_maps
 
         made += plot_maps(run_dir, out)
-    from geompm.pressure_plot import PNG_NAME, plot_pressures
+    from geompm.plots.pressure import PNG_NAME, plot_pressures
 
     pressure = plot_pressures(run_dir, out / PNG_NAME, run_dir.name)
     return made + ([pressure] if pressure is not None else [])

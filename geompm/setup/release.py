@@ -1,6 +1,6 @@
 """Release bodies from GIS files: the mass of a mapped landslide or debris-flow source (3D, set-up only).
 
-Each gives a bounding box and a membership test for the particle lattice (geometry.py):
+Each gives a bounding box and a membership test for the particle lattice (setup/bodies.py):
 
 - ``release_polygon``: points over the area of a GeoJSON polygon (Polygon or
   MultiPolygon features; holes by the even-odd rule) and between the DEM
@@ -14,7 +14,7 @@ Each gives a bounding box and a membership test for the particle lattice (geomet
   the pre-event ground H, two DEMs (the set-up of D-Claw's Oso 2014 case);
   use the failure surface as the terrain so that it becomes the sliding bed.
 
-H is the terrain's bilinear height (obstacles/dem.py), so particles fill
+H is the terrain's bilinear height (files/dem.py), so particles fill
 from exactly the surface the contact uses.
 """
 
@@ -25,12 +25,12 @@ import json
 import numpy as np
 
 from geompm.errors import CaseError
-from geompm.fileio import case_relative, unreadable_file
-from geompm.geometry import points_in_polygon
+from geompm.files.atomic import case_relative, unreadable_file
+from geompm.setup.polygon import points_in_polygon
 
 
 def _raster(base_dir, name, where, nodata_as=None):
-    from geompm.obstacles.dem import read_dem
+    from geompm.files.dem import read_dem
 
     path = case_relative(base_dir, name)
     problem = unreadable_file(path, name)

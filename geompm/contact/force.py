@@ -2,7 +2,7 @@
 
 Shared by the grid contact on nodes (base.obstacle_node_rule) and the particle
 guard (guard.guard_rule): the velocity relative to the obstacle gets
-the rule of boundaries/contact.py along the unit normal n = grad(phi)/|grad(phi)|,
+the rule of contact/rules.py along the unit normal n = grad(phi)/|grad(phi)|,
 and the momentum that removed, f = -m (v_after - v_before) / dt, is added to
 the obstacle's ``out``: f (0:d), its normal part f_n = -f . n (d; pushing into
 the obstacle is positive), f_n n (d+1:2d+1), and the moment (x - moment_point) x f
@@ -15,13 +15,13 @@ import math
 
 from numba import njit
 
-from geompm.boundaries.contact import apply_condition
-from geompm.layout import param_layout
-from geompm.obstacles.sdf_field import nearest_point
+from geompm.contact.rules import apply_condition
+from geompm.contract.layout import param_layout
+from geompm.contact.sdf_field import nearest_point
 
 #: an obstacle's packed parameters (3 slots per vector, 2D uses two): its signed-distance lattice (first
 #: point [m], points per axis, spacing [m]), its displacement at the pass's time [m], its velocity [m/s],
-#: the moment's reference point [m], the contact layer [m], the condition (boundaries/contact.py) and
+#: the moment's reference point [m], the contact layer [m], the condition (contact/rules.py) and
 #: the Coulomb coefficient [-]
 OBSTACLE = param_layout("lat_x", "lat_y", "lat_z", "shape_x", "shape_y", "shape_z", "spacing",
                         "shift_x", "shift_y", "shift_z", "vel_x", "vel_y", "vel_z",

@@ -19,12 +19,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from geompm.boundaries.contact import CONDITIONS, ON_SURFACE
-from geompm.layout import pack_in_layout
-from geompm.stages import OBSTACLE as OBSTACLE_PHASE
-from geompm.stages import GridStage, ParticleStage
-from geompm.obstacles.contact_force import COUNT, DEPTH, FACES_GRID, FACES_GUARD, FORCE_SLOTS, OBSTACLE
-from geompm.obstacles.face_pressure import face_pressure_step, spread_matrix
+from geompm.contact.rules import CONDITIONS, ON_SURFACE
+from geompm.contract.layout import pack_in_layout
+from geompm.contract.stages import OBSTACLE as OBSTACLE_PHASE
+from geompm.contract.stages import GridStage, ParticleStage
+from geompm.contact.force import COUNT, DEPTH, FACES_GRID, FACES_GUARD, FORCE_SLOTS, OBSTACLE
+from geompm.contact.face_pressure import face_pressure_step, spread_matrix
 
 
 class ContactForceStage(GridStage, ParticleStage):
@@ -34,7 +34,7 @@ class ContactForceStage(GridStage, ParticleStage):
     phase = OBSTACLE_PHASE
     node_reduction = FORCE_SLOTS
     particle_reduction = DEPTH + 1
-    particle_maxima = (DEPTH,)  # the deepest penetration is a maximum, not a sum (stages.py)
+    particle_maxima = (DEPTH,)  # the deepest penetration is a maximum, not a sum (contract/stages.py)
     kind = "obstacle"  # how the run's summary names it
     #: the surface's prescribed velocity [m/s] (zeros: at rest)
     vel: np.ndarray

@@ -37,7 +37,7 @@ def plot_pressures(run_dir: Path, png: Path, title: str = "") -> Path | None:
     """The picture, or None if no surface carries pressures."""
     import meshio
 
-    from geompm.plotting import _pyplot, _save
+    from geompm.plots.figure import pyplot, save
 
     loaded = []
     for f in last_surfaces(run_dir):
@@ -50,7 +50,7 @@ def plot_pressures(run_dir: Path, png: Path, title: str = "") -> Path | None:
     obstacles = json.loads(status.read_text()).get("obstacles", {}) if status.is_file() else {}
     case = run_dir / "case.json"
     gravity = json.loads(case.read_text()).get("gravity") if case.is_file() else None
-    plt = _pyplot()
+    plt = pyplot()
     three_d = loaded[0][1].cells[0].type == "triangle"
     fig = plt.figure(figsize=(6.5 * len(loaded), 5), dpi=120)
     for k, (label, m) in enumerate(loaded):
@@ -67,7 +67,7 @@ def plot_pressures(run_dir: Path, png: Path, title: str = "") -> Path | None:
         ax.set_title(head, fontsize=9)
     if title:
         fig.suptitle(title)
-    return _save(fig, png)
+    return save(fig, png)
 
 
 def vertical_axis(gravity) -> int:

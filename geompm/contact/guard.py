@@ -33,8 +33,8 @@ import math
 
 from numba import njit
 
-from geompm.obstacles.contact_force import COUNT, DEPTH, FACES_GUARD, OBSTACLE, contact_and_record, record_on_face
-from geompm.obstacles.sdf_field import interp_field
+from geompm.contact.force import COUNT, DEPTH, FACES_GUARD, OBSTACLE, contact_and_record, record_on_face
+from geompm.contact.sdf_field import interp_field
 
 GUARD_REFINE = 4  # lattice spacing at most h / GUARD_REFINE
 MIN_STEP = 0.25  # marching step at least MIN_STEP * hs

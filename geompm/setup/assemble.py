@@ -11,10 +11,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from geompm.engine.grid import GridSpec
-from geompm.engine.state import ParticleState
+from geompm.mpm.grid import GridSpec
+from geompm.mpm.state import ParticleState
 from geompm.errors import CaseError
-from geompm.geometry import overlap_problems, seed_body
+from geompm.setup.bodies import overlap_problems, seed_body
 from geompm.kernels.overburden import column_overburden
 from geompm.kernels.shape import APIC_D_FACTOR, KIND
 from geompm.schema.case import RunSpec
@@ -207,7 +207,6 @@ def assemble(loaded: LoadedCase) -> Scene:
             stage.setup(scene)
             getattr(scene, attr).append(stage)
     _check_bodies_clear(scene)
-    _check_output_intervals(scene, loaded.case.outputs)
     return scene
 
 
@@ -237,58 +236,3 @@ def _check_bodies_clear(scene: Scene) -> None:
                              f"expel them in the first steps with a spurious force)"))
     if problems:
         raise CaseError(problems)
-
-
-def _check_output_intervals(scene: Scene, outputs) -> None:
-    """An output interval shorter than the first time step would force every step to be shortened; the
-    refusal first says which limit sets that step and why it is so large (step_explanation)."""
-    from geompm.engine.timestep import stable_dt
-
-    dt = stable_dt(scene, scene.state)
-    short = [k for k, o in enumerate(outputs) if 0.0 < o.interval < dt]
-    if not short:
-        return
-    why = step_explanation(scene)
-    raise CaseError([(f"outputs.{k}.interval", f"{why}; the interval {outputs[k].interval:g} s is shorter than "
-                                               f"the time step ({dt:.3g} s): if that step is right, use an "
-                                               f"interval of at least {dt:.3g} s, or 0 to write every step")
-                     for k in short])
-
-
-def step_explanation(scene: Scene) -> str:
-    """Which limit sets the first time step and what sets that limit: the fastest material's wave speed
-    (with its stiffness and density) or the most viscous material's viscosity."""
-    from geompm.engine.estimate import step_report
-
-    if scene.dt_fixed is not None:
-        return f"the time step is fixed by time.dt = {scene.dt_fixed:g} s"
-    rep = step_report(scene)
-    text = rep.governing()
-    if rep.viscous_governs:
-        return text
-    st = scene.state
-    speeds = [(m.wave_speed(st.p_rho[s:e]), name, m) for m, name, (s, e)
-              in zip(scene.materials, scene.material_names, st.blocks) if e > s]
-    if not speeds:
-        return text
-    c, name, mat = max(speeds, key=lambda t: t[0])
-    stiff = getattr(mat.params, "youngs_modulus", None)
-    detail = (f"E = {stiff:g} Pa, " if stiff is not None else "") + f"rho = {mat.density:g} kg/m3"
-    return (f"{text}: the fastest wave is c = {c:.3g} m/s in material '{name}' ({detail}), so h = "
-            f"{scene.grid.h:g} m is crossed in {scene.grid.h / c:.3g} s")
-
-
-def fixed_step_problem(scene: Scene) -> tuple[str, str] | None:
-    """A fixed time.dt above the stable step of the first step (wave and viscous limits): (path, message)."""
-    from geompm.engine.timestep import viscous_limit, wave_limit
-
-    if scene.dt_fixed is None:
-        return None
-    stable = min(wave_limit(scene, scene.state), viscous_limit(scene))
-    if scene.dt_fixed <= stable:
-        return None
-    limit = "viscous limit rho h^2 / (2 d mu)" if viscous_limit(scene) < wave_limit(scene, scene.state) \
-        else f"wave limit cfl h / (c + |v|) at cfl = {scene.cfl:g}"
-    return ("time.dt", f"{scene.dt_fixed:g} s is {scene.dt_fixed / stable:.3g}x the stable step {stable:.3g} s "
-                       f"(the {limit}): the run would blow up within a few steps; use time.dt <= {stable:.3g} s, "
-                       "or remove it and let the step adapt")

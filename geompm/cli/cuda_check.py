@@ -61,7 +61,7 @@ def cmd_cuda_check(args) -> int:
                                "install them with pip install 'geompm[cuda]'")])
     with tempfile.TemporaryDirectory(prefix="geompm-cuda-check-") as tmp:
         launches = Path(tmp) / "launches.json"
-        cmd = [sys.executable, "-m", "geompm.cuda_check", str(launches), args.case, str(args.steps), *args.set]
+        cmd = [sys.executable, "-m", "geompm.cli.cuda_check", str(launches), args.case, str(args.steps), *args.set]
         rec = subprocess.run(cmd, env=dict(os.environ, NUMBA_ENABLE_CUDASIM="1"), capture_output=True, text=True)
         if rec.returncode:
             print(rec.stderr[-4000:], file=sys.stderr)
@@ -97,7 +97,7 @@ def _record(out: str, case: str, steps: str, *sets: str) -> int:
     """The recording subprocess (simulator on): ``steps`` steps of the case on the cuda backend.  A plugin
     that does not declare the cuda backend yet is checked as if it did (this check is what an author runs
     before declaring it), with a note."""
-    from geompm import registry
+    from geompm.contract import registry
     from geompm.api import scene_from_file
     from geompm.backend.cuda_ptx import record
     from geompm.engine.scheduler import Simulation

@@ -8,67 +8,44 @@ from __future__ import annotations
 
 import argparse
 import json
-import logging
-import signal
 import sys
 from pathlib import Path
 
-from geompm import __version__, registry
-from geompm.errors import CaseError, SimulationError
-from geompm.fileio import atomic_write_json, atomic_write_text
-from geompm.ownership import create_folder, mark_folder, marked_kind, may_write, owned_kind, remove_tree
+from geompm.contract import registry
+from geompm.version import __version__
+from geompm.errors import CaseError
+from geompm.files.atomic import atomic_write_text
+from geompm.files.ownership import may_write
 from geompm.bench.command import add_parser as bench_parser
-from geompm.cuda_check import add_parser as cuda_check_parser
+from geompm.cli.cuda_check import add_parser as cuda_check_parser
 from geompm.study.calibrate import add_parser as calibrate_parser
 from geompm.study.command import add_parser as study_parser
 
-log = logging.getLogger("geompm")
-
-
-def _setup_logging(run_dir: Path | None = None, quiet: bool = False):
-    """Messages to the terminal (warnings and errors only with --quiet) and to run.log."""
-    log.setLevel(logging.INFO)
-    log.handlers.clear()
-    term = logging.StreamHandler(sys.stdout)
-    term.setFormatter(logging.Formatter("%(message)s"))
-    term.setLevel(logging.WARNING if quiet else logging.INFO)
-    log.addHandler(term)
-    if run_dir is not None:
-        fh = logging.FileHandler(run_dir / "run.log", mode="a")
-        fh.setFormatter(logging.Formatter("%(asctime)s %(message)s"))
-        log.addHandler(fh)
 
 
 def _load(args):
-    from geompm.assemble import assemble
+    from geompm.engine.first_step import check_output_intervals
     from geompm.schema import load_case
+    from geompm.setup.assemble import assemble
 
     loaded = load_case(args.case, getattr(args, "set", None) or [])
     try:
-        return loaded, assemble(loaded)
+        scene = assemble(loaded)
+        check_output_intervals(scene, loaded.case.outputs)
+        return loaded, scene
     except CaseError as exc:
         exc.warnings = exc.warnings or loaded.warnings
         raise
 
 
-def _estimate(scene) -> tuple[float, int, float]:
-    """(bytes of memory, active grid nodes, first time step [s])."""
-    from geompm.engine.timestep import stable_dt
-    from geompm.resources import grid_bytes, window_nodes
-
-    st = scene.state
-    nodes = window_nodes(st.p_x.min(axis=0), st.p_x.max(axis=0), scene.grid.h)
-    return st.nbytes() + grid_bytes(nodes, scene.dim), nodes, stable_dt(scene, st)
-
-
 def cmd_validate(args) -> int:
-    from geompm.assemble import fixed_step_problem
+    from geompm.engine.first_step import first_step_estimate, fixed_step_problem, stage_warnings, viscous_warning
 
     loaded, scene = _load(args)
     problem = fixed_step_problem(scene)
     if problem:
         raise CaseError([problem], warnings=loaded.warnings)
-    mem, nodes, dt = _estimate(scene)
+    mem, nodes, dt = first_step_estimate(scene)
     cells = int(scene.grid.ncells.prod())
     print(f"case '{scene.name}' is valid: {scene.dim}D, {scene.state.n} particles, "
           f"{cells} grid cells ({'x'.join(str(c) for c in scene.grid.ncells)}, h = {scene.grid.h:g} m), "
@@ -79,8 +56,8 @@ def cmd_validate(args) -> int:
         print(f"warning: the first time step is below time.dt_min = {scene.dt_min:g} s: `geompm run` would stop "
               "before the first step (exit 3); the wave speed sqrt(E/rho), the viscosity and time.cfl set it")
     _step_limits(scene)
-    _viscous_warning(loaded, scene, print)
-    _stage_warnings(scene, print, loaded)
+    viscous_warning(loaded, scene, print)
+    stage_warnings(scene, print, loaded)
     return 0
 
 
@@ -99,202 +76,16 @@ def _step_limits(scene) -> None:
             print(alt.sentence(rep.dt, scene.end_time))
 
 
-def _stage_warnings(scene, emit, loaded=None) -> None:
-    for path, text in (loaded.warnings if loaded is not None else []):
-        emit(f"warning: {path}: {text}")
-    for stage in scene.boundaries + scene.obstacles + scene.damping:
-        for text in stage.warnings():
-            emit("warning: " + text)
-    for name, mat in zip(scene.material_names, scene.materials):
-        for text in mat.warnings():
-            emit(f"warning: materials.{name}: {text}")
+def cmd_run(args) -> int:
+    from geompm.engine.run_case import run_case
 
-
-def _viscous_warning(loaded, scene, emit) -> None:
-    """Say so when viscosity sets the time step: the step, the steps, a measured run time, the remedies."""
-    from geompm.assemble import assemble
-    from geompm.engine.estimate import viscous_report
-
-    from geompm.engine.timestep import stable_dt
-
-    if not stable_dt(scene, scene.state) >= scene.dt_min:
-        return  # the dt_min check speaks for this case (validate warns, run stops with exit 3)
-    rep = viscous_report(scene, lambda: assemble(loaded))
-    if rep is not None:
-        emit("warning: " + rep.message(scene.end_time))
-
-
-#: what may change on --resume: the end time (to extend a run), and where and in what width the step runs
-RESUME_MAY_CHANGE = (("time", "end"), ("solver", "backend"), ("solver", "precision"))
-
-
-def _same_case(old: dict, new: dict) -> bool:
-    """A run may resume with the case it started with; only time.end, solver.backend and solver.precision
-    may differ (a run started on a GPU finishes on a CPU, a checkpoint is read in either width)."""
-    a, b = json.loads(json.dumps(old)), json.loads(json.dumps(new))
-    for c in (a, b):
-        for section, key in RESUME_MAY_CHANGE:
-            sub = c.get(section)
-            if isinstance(sub, dict):
-                sub.pop(key, None)
-            if sub == {}:
-                c.pop(section)
-    return a == b
+    return run_case(args.case, out=args.out, overrides=args.set or [], resume=args.resume, overwrite=args.overwrite,
+                    protect=_case_folder(args), quiet=args.quiet).exit_code
 
 
 def _case_folder(args) -> tuple:
     """What a delete must never touch besides the current and home folders: the case file's folder."""
     return ((Path(args.case).resolve().parent, f"the case file {args.case}"),)
-
-
-def _run_folder(args, loaded, scene) -> Path:
-    """The run folder: a fresh one (refusing to overwrite) or, with --resume, the existing one."""
-    if args.resume:
-        run_dir = Path(args.resume)
-        saved = run_dir / "case.json"
-        if not saved.is_file():
-            raise CaseError([("--resume", f"'{run_dir}' is not a geompm run folder (no case.json)")])
-        if not _same_case(json.loads(saved.read_text()), loaded.raw):
-            raise CaseError([("--resume", f"the case differs from the one '{run_dir}' was started with "
-                                          "(only time.end, solver.backend and solver.precision may change on --resume); "
-                                          "use that case.json")])
-        if owned_kind(run_dir) != "run" and (run_dir / "checkpoints").is_dir() and marked_kind(run_dir) in (None, "run"):
-            # a run folder of a geompm without markers, or one the user moved: continuing it there makes it
-            # this run's folder again (it rotates its checkpoints)
-            mark_folder(run_dir, "run", adopted=True)
-        if json.loads(saved.read_text()) != loaded.raw:  # a new end time (or backend): the folder's case says so
-            atomic_write_json(saved, loaded.raw)
-        return run_dir
-    run_dir = Path(args.out) if args.out else Path("runs") / scene.name
-    if run_dir.exists() and (not run_dir.is_dir() or any(run_dir.iterdir())):
-        if not args.overwrite:
-            raise CaseError([("--out", f"run folder '{run_dir}' already exists; use --overwrite (only for a "
-                                       "folder geompm made), --out DIR, or --resume to continue it")])
-        remove_tree(run_dir, "run", protect=_case_folder(args))
-    create_folder(run_dir, "run")
-    atomic_write_json(run_dir / "case.json", loaded.raw)
-    return run_dir
-
-
-def _write_status(run_dir: Path, scene, runner, summary, finished: bool, reason: str = "") -> None:
-    import numba
-
-    from geompm.resources import peak_rss
-
-    sim = runner.sim
-    status = {
-        "case": scene.name, "finished": finished, "reason": reason, "time": sim.time, "end_time": scene.end_time,
-        "steps": sim.step_count, "particles": sim.state.n, "deleted_particles": runner.deleted,
-        "cells": int(scene.grid.ncells.prod()), "cell_size": scene.grid.h, "threads": numba.get_num_threads(),
-        "wall_seconds": runner.wall_before + (summary.wall_seconds if summary else 0.0),
-        "particle_steps_per_second": summary.particle_steps_per_second if summary else None,
-        "peak_rss_bytes": peak_rss(),
-        "front_x": float(sim.state.p_x[:, 0].max()) if sim.state.n else None,
-        "obstacles": {o.label: {"peak_force": pk[0], "peak_time": pk[1], **_hot_spot(o)}
-                      for o in scene.obstacles if (pk := o.peak_force()) is not None},
-        "geompm": __version__,
-    }
-    atomic_write_json(run_dir / "status.json", status)
-
-
-class _StopOnSignal:
-    """SIGINT/SIGTERM ask the runner to checkpoint and stop; restored on exit."""
-
-    def __init__(self, runner):
-        self.runner = runner
-        self.signum = None
-
-    def _handler(self, signum, frame):
-        if self.signum is not None:  # a second signal: stop now
-            raise KeyboardInterrupt
-        self.signum = signum
-        self.runner.request_stop(signal.Signals(signum).name)
-
-    def __enter__(self):
-        self.old = {s: signal.signal(s, self._handler) for s in (signal.SIGINT, signal.SIGTERM)}
-        return self
-
-    def __exit__(self, *exc):
-        for s, h in self.old.items():
-            signal.signal(s, h)
-
-
-def _saved_end_time(args) -> float | None:
-    """time.end of the case a run folder was started (or last resumed) with, before --resume changes it."""
-    try:
-        return float(json.loads((Path(args.resume) / "case.json").read_text())["time"]["end"])
-    except (OSError, ValueError, KeyError, TypeError):
-        return None  # _run_folder refuses a folder without a readable case.json
-
-
-def cmd_run(args) -> int:
-    from geompm.assemble import fixed_step_problem as _fixed_step_problem
-    from geompm.engine.runner import Interrupted, Runner
-    from geompm.engine.scheduler import Simulation
-    from geompm.writers.series import SeriesWriter
-
-    saved_end = _saved_end_time(args) if args.resume else None
-    loaded, scene = _load(args)
-    mem, nodes, dt = _estimate(scene)
-    run_dir = _run_folder(args, loaded, scene)
-    _setup_logging(run_dir, quiet=args.quiet)
-    writers = list(scene.writers)
-    if not any(isinstance(w, SeriesWriter) for w in writers):
-        writers.insert(0, SeriesWriter(SeriesWriter.Params(), 0.0))
-    nchunks = None
-    if args.resume:
-        from geompm.engine import checkpoint
-
-        nchunks = checkpoint.read_meta(run_dir)["nchunks"]
-    sim = Simulation(scene, nchunks=nchunks)
-    runner = Runner(sim, run_dir, writers, progress=not args.quiet)
-    if args.resume:
-        runner.resume()
-        if sim.time >= scene.end_time * (1 - 1e-12):
-            log.warning(f"'{run_dir}' already reached t = {sim.time:.6g} s, its case's end time "
-                        f"(time.end = {scene.end_time:g} s): nothing to do; to run on, resume with "
-                        f"--set time.end=<a later time>")
-            return 0
-        explicit = any(x.split("=", 1)[0] == "time.end" for x in args.set or [])
-        if saved_end is not None and saved_end != scene.end_time and not explicit:
-            log.warning(f"warning: the case file's time.end is {scene.end_time:g} s but '{run_dir}' was run to "
-                        f"{saved_end:g} s (an earlier --set, or an edited file): it continues to "
-                        f"{scene.end_time:g} s; --set time.end={saved_end:g} keeps the old end")
-        log.info(f"geompm {__version__}: resuming '{scene.name}' in {run_dir} at step {sim.step_count}, "
-                 f"t = {sim.time:.6g} s, to end time {scene.end_time:g} s")
-    else:
-        log.info(f"geompm {__version__}: case '{scene.name}', {scene.dim}D, {scene.state.n} particles, "
-                 f"h = {scene.grid.h:g} m, end time {scene.end_time:g} s, first dt {dt:.3g} s, "
-                 f"~{mem / 2**20:.0f} MiB -> {run_dir}")
-        _viscous_warning(loaded, scene, log.warning)
-        _stage_warnings(scene, log.warning, loaded)
-        problem = _fixed_step_problem(scene)
-        if problem:  # validate refuses it; a run goes on, so that a stability experiment can see the blow-up
-            log.warning(f"warning: {problem[0]}: {problem[1]} (geompm validate refuses this case)")
-    summary = None
-    try:
-        with _StopOnSignal(runner) as stopper:
-            summary = runner.run()
-    except SimulationError as exc:
-        log.error(f"error: the run stopped at step {sim.step_count}, t = {sim.time:.6g} s: {exc}")
-        log.error(f"output written so far is kept in {run_dir}; the last checkpoint is before this step")
-        _write_status(run_dir, scene, runner, summary, False, f"unphysical: {exc}")
-        return 3
-    except Interrupted as exc:
-        sets = "".join(f" --set {x}" for x in (args.set or []))
-        log.error(f"stopped by {exc} at step {sim.step_count}, t = {sim.time:.6g} s; checkpoint written. "
-                  f"Continue with: geompm run {args.case}{sets} --resume {run_dir}")
-        _write_status(run_dir, scene, runner, summary, False, f"stopped by {exc}")
-        return 128 + (stopper.signum or signal.SIGINT)
-    for stage in scene.boundaries + scene.obstacles + scene.damping:
-        if stage.summary():
-            log.info(stage.summary())
-    if summary.deleted:
-        log.info(f"{summary.deleted} particles left the grid and were deleted")
-    _write_status(run_dir, scene, runner, summary, True)
-    log.info(f"done: {summary.steps} steps to t = {summary.sim_time:.6g} s in {summary.wall_seconds:.2f} s wall, "
-             f"{summary.particle_steps_per_second:.3g} particle-steps/s")
-    return 0
 
 
 def _run_dir_arg(path) -> Path:
@@ -382,7 +173,7 @@ def _print_runout(run_dir: Path, case: dict) -> None:
 
 
 def cmd_plot(args) -> int:
-    from geompm.plotting import PNG_NAMES
+    from geompm.plots.run import PNG_NAMES
 
     run_dir = _run_dir_arg(args.run_dir)
     out = Path(args.output) if args.output else run_dir / "plots"
@@ -391,7 +182,7 @@ def cmd_plot(args) -> int:
         raise CaseError([("--output", f"{taken[0]} exists and geompm did not make it; it is not overwritten. "
                                       "Choose another -o folder")])
     try:
-        from geompm.plotting import plot_run
+        from geompm.plots.run import plot_run
 
         made = plot_run(run_dir, args.output)
     except ImportError as exc:

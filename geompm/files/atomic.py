@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from geompm.ownership import register_made, remove_file
+from geompm.files.ownership import register_made, remove_file
 
 
 def user_mode(executable: bool = False) -> int:

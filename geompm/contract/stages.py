@@ -1,0 +1,188 @@
+"""Base classes of the per-step stages that plugins provide.
+
+- ``GridStage``: acts on grid velocities after the grid update (boundaries,
+  obstacles, grid damping) through a per-node function;
+- ``ParticleStage``: acts on particles after G2P (particle damping, the
+  obstacles' penetration guard) through a per-particle function.
+A stage may be both: a rigid obstacle acts on grid nodes and then on the
+particles that still got inside it.  The stage gives the functions, its
+packed parameters and a host-side hook for what its pass accumulated (a
+force); the backend owns the loops (backend/cpu_stage_loops.py), so the same
+functions can run on another machine.
+
+A stage may contribute columns to series.csv through ``series()``, a dict of
+column name -> value at the current step.  A stage that carries state from
+step to step (an obstacle's peak force) returns it from ``state_dict()`` (plain
+JSON values) and takes it back in ``load_state()``, so checkpoints restore it.
+Every capability the engine asks about is declared here with its default:
+``phase`` (where the stage runs among the others each step), the per-item functions and
+their scratch and accumulator sizes, ``needs_split_force``,
+``supplied_speed()`` (the health check's energy budget for moving obstacles),
+``peak_force()`` (status.json).  The scheduler orders and picks stages by these,
+never by plugin name and never by probing attributes.
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+import numpy as np
+
+from geompm.contract.plugin import Plugin
+
+#: stage phases, in the order they run each step (stable within a phase: the case's order).  Node
+#: merging (periodic folding) first, then damping; boundaries and obstacles have the last word on
+#: grid velocities; the same order holds for the particle passes.
+MERGE, DAMPING, BOUNDARY, OBSTACLE = 0, 1, 2, 3
+
+
+class Stage(Plugin):
+    phase: ClassVar[int] = BOUNDARY
+    #: the backends whose compilation of this stage's rules has been checked (as Material.backends)
+    backends: ClassVar[tuple[str, ...]] = ("cpu",)
+
+    def __init__(self, params, label: str, json_path: str = ""):
+        self.params = params
+        self.label = label
+        self.json_path = json_path  # where the stage sits in the case, for error messages
+
+    def setup(self, scene) -> None:
+        """Runs once after the scene is assembled (select nodes, build fields)."""
+
+    def series(self) -> dict[str, float]:
+        return {}
+
+    def summary(self) -> str:
+        """A line for the end of a run (e.g. an obstacle's peak force), or ''."""
+        return ""
+
+    def warnings(self) -> list[str]:
+        """What `geompm validate` and `geompm run` should warn about after set-up (e.g. an obstacle thinner
+        than the grid resolves), each a full sentence."""
+        return []
+
+    def supplied_speed(self) -> float:
+        """Largest speed [m/s] at which the stage drives material (a moving obstacle); 0 if it drives none."""
+        return 0.0
+
+    def peak_force(self) -> tuple[float, float] | None:
+        """(largest |F| [N, N/m in 2D], its time [s]) for stages that take a force, else None."""
+        return None
+
+    #: the faces its force is spread on (recorded.ContactForceStage.start_faces), None for every other stage
+    faces = None
+
+    def hot_spot(self):
+        """(largest face pressure [Pa], its face centre [m] (3,), its time [s]) for a stage that spreads its
+        force on its faces (recorded.ContactForceStage), else None."""
+        return None
+
+    def surface(self):
+        """The stage's rigid surface for output (obstacles/tessellate.Surface, in the case's frame at t = 0),
+        or None for a stage without one (damping, periodic)."""
+        return None
+
+    def solid_depth(self, pts):
+        """Depth [m] of points (n, d) inside the stage's rigid solid at t = 0 (positive inside, negative
+        outside), or None for a stage that occupies no space: set-up refuses a body that starts inside
+        (setup/assemble.py)."""
+        return None
+
+    def surface_shift(self, time: float):
+        """Displacement [m] of the surface at ``time`` (a prescribed velocity), or None if it does not move."""
+        return None
+
+    def state_dict(self) -> dict:
+        return {}
+
+    def load_state(self, state: dict) -> None:
+        pass
+
+
+class GridStage(Stage):
+    """A stage on grid nodes, after the grid update: one ``@njit`` function per node, run by the backend.
+
+    Either a rule on one node (boundaries, obstacles, grid damping)::
+
+        node_rule(prm, aux, dt, x, m, v, v_old, f, work, out)
+
+    ``prm`` the stage's packed parameters (float64, 1-D, contract/layout.py), ``aux`` its lookup
+    table (a signed-distance lattice; any float64 array; read-only once handed to the backend,
+    which may keep a copy on a device: to change it, hand a new array), ``x`` (d,) the node's position [m],
+    ``m`` its mass [kg], ``v`` (d,) its velocity after the update [m/s], changed in place,
+    ``v_old`` and ``f`` (d,) its velocity before the update [m/s] and its force [N] (defined only
+    when the stage declares ``needs_split_force``; otherwise aliases of ``v``), ``work``
+    (node_scratch,) float64 scratch, ``out`` (node_reduction,) this thread's accumulator.  The
+    backend calls it on the nodes with mass (every one, or those in ``node_box``), in parallel: it
+    must write only this node and ``out``, allocate nothing and call no Python.  The backend sums
+    the threads' ``out`` rows for ``grid_reduced``.
+
+    Or a node merge (periodic folding, ``phase = MERGE``)::
+
+        node_image(prm, axis, i) -> j
+
+    the global index along ``axis`` of the node that global index ``i`` is the same node as (``i``
+    itself when it is not a ghost); the backend merges every node with its image (summed mass,
+    mass-weighted velocity).  Images must be nodes that are not ghosts themselves.
+    """
+
+    #: True when the rule reads ``v_old`` or ``f``: the scheduler then keeps the nodal force apart
+    #: from the momentum (mpm/grid.py); otherwise P2G folds dt f into the momentum
+    needs_split_force: ClassVar[bool] = False
+    node_rule: ClassVar = None
+    node_image: ClassVar = None
+    node_scratch: ClassVar[int] = 0  # float64 scratch entries per thread
+    #: accumulator entries per thread; a stage may set its own in setup (an obstacle's per-face forces),
+    #: before the backend plans its passes
+    node_reduction: int = 0
+    #: the ``out`` slots that hold a maximum over the nodes (``out[k] = max(out[k], ...)``) rather than a
+    #: sum: a backend whose threads each hold one node (cuda) combines these with a maximum
+    node_maxima: ClassVar[tuple[int, ...]] = ()
+
+    def grid_args(self, dt: float, time: float, remap: bool):
+        """(prm, aux) for this pass, or None to skip it.  ``remap`` is True when the scheduler
+        re-applies the conditions to the MUSL re-mapped velocities."""
+        raise NotImplementedError
+
+    def node_box(self, time: float):
+        """(first, last) global node indices (d,) int64, inclusive, outside which the rule changes
+        nothing at ``time``, or None for every node (the backend may skip the nodes outside)."""
+        return None
+
+    def grid_reduced(self, out, dt: float, time: float, remap: bool) -> None:
+        """The pass's accumulator rows (threads, node_reduction), on the host (reused by the next pass)."""
+
+
+class ParticleStage(Stage):
+    """A stage on particles, after G2P: one ``@njit`` function per particle, run by the backend::
+
+        particle_rule(prm, aux, dt, k, x, x0, v, C, m, s, work, out)
+
+    ``k`` the particle's material block, ``x`` and ``x0`` (d,) its position and initial position
+    [m], ``v`` (d,) its velocity [m/s], ``C`` (d, d) its affine velocity matrix [1/s], all in
+    place; ``m`` its mass [kg]; ``s`` (6,) its stress [Pa] (read); ``prm``, ``aux``, ``work``,
+    ``out`` as for ``GridStage.node_rule``.  The backend runs it over the blocks of
+    ``particle_blocks()`` in parallel and hands the summed rows to ``particle_reduced``.
+    """
+
+    particle_rule: ClassVar = None
+    particle_scratch: ClassVar[int] = 0
+    particle_reduction: int = 0  # as node_reduction
+    particle_maxima: ClassVar[tuple[int, ...]] = ()  # as node_maxima
+
+    def particle_args(self, dt: float, time: float):
+        """(prm, aux) for this pass, or None to skip it."""
+        raise NotImplementedError
+
+    def particle_blocks(self, nblocks: int):
+        """The material blocks the rule acts on (default: all)."""
+        return range(nblocks)
+
+    def particle_reduced(self, out, dt: float, time: float) -> None:
+        """The pass's accumulator rows (threads, particle_reduction), on the host (reused by the next pass)."""
+
+
+#: the ``aux`` of a stage that has no lookup table
+NO_AUX = np.zeros(1)
+#: a node index beyond any grid (an open side of a ``node_box``)
+FAR_NODE = 1 << 40
