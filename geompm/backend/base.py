@@ -54,7 +54,7 @@ class Backend:
         """Grid velocity from the re-mapped momentum (MUSL)."""
         raise NotImplementedError
 
-    def g2p(self, view, dt: float, set_velocity: bool, move: bool, gradient: bool) -> None:
+    def g2p(self, view, dt: float, *, set_velocity: bool, move: bool, gradient: bool) -> None:
         raise NotImplementedError
 
     def grid_stage(self, stage, view, dt: float, time: float, remap: bool) -> None:

@@ -48,7 +48,7 @@ class CpuBackend(Backend):
             block_loops(type(mat))  # generate (or load) every law's and stage's loops before the first step
         self._every_node = (np.full(scene.dim, -FAR_NODE, np.int64), np.full(scene.dim, FAR_NODE, np.int64))
         #: per stage: its loops and its accumulator and scratch rows, made once
-        self._plans = {id(s): self._plan(s) for s in scene.boundaries + scene.damping + scene.obstacles}
+        self._plans = {id(s): self._plan(s) for s in scene.stages}
 
     def host_state(self):
         return self.state
@@ -78,7 +78,7 @@ class CpuBackend(Backend):
     def remap_velocity(self, view) -> None:
         momentum_to_velocity(view.g_mass, view.g_mom, self.mass_eps, view.g_vel)
 
-    def g2p(self, view, dt: float, set_velocity: bool, move: bool, gradient: bool) -> None:
+    def g2p(self, view, dt: float, *, set_velocity: bool, move: bool, gradient: bool) -> None:
         st, sc, g = self.state, self.scene, self.scene.grid
         g_vel_old = view.g_vel_old if self.split_force else view.g_vel  # read by FLIP only
         ratio = sc.flip_ratio if sc.flip_tau is None else math.exp(-dt / sc.flip_tau)

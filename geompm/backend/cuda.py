@@ -158,7 +158,7 @@ class CudaBackend(Backend):
         nn = view.g_mass.shape[0]
         K.momentum_to_velocity[K.blocks(nn), K.THREADS](view.g_mass, view.g_mom, self.mass_eps, view.g_vel)
 
-    def g2p(self, view, dt: float, set_velocity: bool, move: bool, gradient: bool) -> None:
+    def g2p(self, view, dt: float, *, set_velocity: bool, move: bool, gradient: bool) -> None:
         dev, st, sc, g = self._device(), self.state, self.scene, self.scene.grid
         if not st.n:
             return

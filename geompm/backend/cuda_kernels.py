@@ -24,6 +24,7 @@ import math
 from numba import cuda, float64, int64
 
 from geompm.kernels.shape import axis_stencil
+from geompm.kernels.stencil import APIC, FLIP, MLS
 from geompm.kernels.volume import update_volume
 from geompm.backend.cuda_loops import simulated, simulator_call
 
@@ -93,7 +94,7 @@ def _p2g_entry(s, S, mode, d, p, p_x, p_v, p_C, p_stress, origin, h, base, lo, n
     idx, wt = _node(s, S, d, base, lo, nloc, w, dw, k, gw)
     for a in range(d):
         dx[a] = (base[a] + k[a]) * h + origin[a] - p_x[p, a]
-    if mode == 3:
+    if mode == MLS:
         for a in range(d):
             gw[a] = dinv * wt * dx[a]
     val[0] = wt * m
@@ -274,25 +275,25 @@ def g2p(S, mode, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old, ori
         for a in range(d):
             vi = g_vel[idx, a]
             vpic[a] += wt * vi
-            if mode == 2:
+            if mode == FLIP:
                 dv[a] += wt * (vi - g_vel_old[idx, a])
             for b in range(d):
                 L[a, b] += vi * gw[b]
                 B[a, b] += wt * vi * dx[b]
-    if mode == 3:
+    if mode == MLS:
         for a in range(d):
             for b in range(d):
                 L[a, b] = B[a, b] * dinv
     if set_velocity:
         for a in range(d):
-            if mode == 2:
+            if mode == FLIP:
                 p_v[p, a] = flip_ratio * (p_v[p, a] + dv[a]) + (1.0 - flip_ratio) * vpic[a]
             else:
                 p_v[p, a] = vpic[a]
             for b in range(d):
-                if (mode == 1 or mode == 3) and S > 2:
+                if (mode == APIC or mode == MLS) and S > 2:
                     p_C[p, a, b] = B[a, b] * dinv
-                elif mode == 1:
+                elif mode == APIC:
                     p_C[p, a, b] = L[a, b]
                 else:
                     p_C[p, a, b] = 0.0

@@ -90,7 +90,7 @@ def measure(case: str, steps: int, sets: list[str], permute: bool = False) -> di
     wall = time.perf_counter() - t0
     n = sim.state.n
     view = sim.view
-    model_bytes = sim.state.nbytes() + sim.buffers.nbytes() + _stage_bytes(sim.grid_stages + sim.particle_stages)
+    model_bytes = sim.state.nbytes() + sim.buffers.nbytes() + _stage_bytes(sim.scene.stages)
     return {
         "case": case,
         "sets": sets,

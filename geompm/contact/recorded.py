@@ -36,6 +36,8 @@ class ContactForceStage(GridStage, ParticleStage):
     particle_reduction = DEPTH + 1
     particle_maxima = (DEPTH,)  # the deepest penetration is a maximum, not a sum (contract/stages.py)
     kind = "obstacle"  # how the run's summary names it
+    records_force = True
+    supplies_energy = True  # a prescribed velocity drives material (supplied_speed: 0 at rest)
     #: the surface's prescribed velocity [m/s] (zeros: at rest)
     vel: np.ndarray
 

@@ -40,6 +40,14 @@ class Stage(Plugin):
     phase: ClassVar[int] = BOUNDARY
     #: the backends whose compilation of this stage's rules has been checked (as Material.backends)
     backends: ClassVar[tuple[str, ...]] = ("cpu",)
+    #: capabilities, read by the engine, writers and commands from every stage of a scene (never by name):
+    #: it drives material and may add kinetic energy (``supplied_speed``; the health check's budget)
+    supplies_energy: ClassVar[bool] = False
+    #: it records the contact force it exerts (``peak_force``, ``hot_spot``, ``series`` columns
+    #: <label>_fx ...; status.json's force entries, `geompm info`, `study --metric peak_force:LABEL`)
+    records_force: ClassVar[bool] = False
+    #: it is the ground of a DEM (``ground_dem()``): hazard maps are drawn on that raster
+    provides_ground: ClassVar[bool] = False
 
     def __init__(self, params, label: str, json_path: str = ""):
         self.params = params
@@ -75,6 +83,11 @@ class Stage(Plugin):
     def hot_spot(self):
         """(largest face pressure [Pa], its face centre [m] (3,), its time [s]) for a stage that spreads its
         force on its faces (recorded.ContactForceStage), else None."""
+        return None
+
+    def ground_dem(self):
+        """(the DEM file of the ground this stage is [path], its JSON path) for a stage that
+        ``provides_ground``, else None."""
         return None
 
     def surface(self):

@@ -32,7 +32,7 @@ def save(run_dir: Path, sim, runner_meta: dict, writers, keep: int = 2) -> Path:
         "nchunks": sim.buffers.nchunks, "blocks": [list(b) for b in st.blocks],
         "runner": runner_meta,
         "writers": [w.state() for w in writers],
-        "stages": {s.label: s.state_dict() for s in sim.grid_stages + sim.particle_stages},
+        "stages": {s.label: s.state_dict() for s in sim.scene.stages},
     }
     arrays = dict(st.arrays())
     for k, sv in enumerate(st.p_state):
@@ -78,5 +78,5 @@ def restore(sim, arrays: dict, meta: dict) -> None:
     st.p_state = [np.ascontiguousarray(arrays[f"p_state_{k}"]) for k in range(len(st.blocks))]
     st.set_precision(sim.scene.precision)  # a checkpoint resumes in the precision of the case that resumes it
     sim.time, sim.step_count, sim.dt = meta["time"], meta["step"], meta["dt"]
-    for s in sim.grid_stages + sim.particle_stages:
+    for s in sim.scene.stages:
         s.load_state(meta["stages"].get(s.label, {}))

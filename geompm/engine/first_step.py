@@ -80,7 +80,7 @@ def stage_warnings(scene, emit, loaded=None) -> None:
     """Emit the case's plausibility warnings and every stage's and law's own warnings, one line each."""
     for path, text in (loaded.warnings if loaded is not None else []):
         emit(f"warning: {path}: {text}")
-    for stage in scene.boundaries + scene.obstacles + scene.damping:
+    for stage in scene.stages:
         for text in stage.warnings():
             emit("warning: " + text)
     for name, mat in zip(scene.material_names, scene.materials):

@@ -108,7 +108,7 @@ class HealthCheck:
         mass = float(st.p_mass.sum())
         g = float(np.linalg.norm(scene.gravity))
         diag = float(np.linalg.norm(scene.grid.upper - scene.grid.origin))
-        v_obs = max((o.supplied_speed() for o in scene.obstacles), default=0.0)
+        v_obs = max((s.supplied_speed() for s in scene.stages if s.supplies_energy), default=0.0)
         _, ek0, _ = health_sums(st.p_x, st.p_x0, st.p_v, st.p_stress, st.p_mass, scene.gravity)
         self.budget0 = ek0 + _strain_energy(scene) + 2.0 * mass * v_obs ** 2
         self.floor = 1e-6 * mass * max(g, 1.0) * diag

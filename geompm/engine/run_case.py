@@ -163,7 +163,7 @@ def write_status(run_dir: Path, scene, runner, summary, finished: bool, reason: 
         "peak_rss_bytes": peak_rss(),
         "front_x": float(sim.state.p_x[:, 0].max()) if sim.state.n else None,
         "obstacles": {o.label: {"peak_force": pk[0], "peak_time": pk[1], **hot_spot(o)}
-                      for o in scene.obstacles if (pk := o.peak_force()) is not None},
+                      for o in scene.stages if o.records_force and (pk := o.peak_force()) is not None},
         "geompm": __version__,
     }
     atomic_write_json(run_dir / "status.json", status)
@@ -278,7 +278,7 @@ def run_case(case, out=None, overrides=(), progress: bool = True, resume=None, o
                   f"--resume {run_dir}")
         status = write_status(run_dir, scene, runner, summary, False, f"stopped by {exc}")
         return Run(run_dir, 128 + (stopper.signum or signal.SIGINT), status, declared_outputs(run_dir, writers))
-    for stage in scene.boundaries + scene.obstacles + scene.damping:
+    for stage in scene.stages:
         if stage.summary():
             log.info(stage.summary())
     if summary.deleted:

@@ -23,6 +23,15 @@ from geompm.engine.scheduler import Simulation
 
 log = logging.getLogger("geompm")
 
+#: when the gap to the next output time is below this many stable steps, it is crossed in two equal halves:
+#: a full step would leave a sliver under half a step to land on the output with
+SPLIT_BEFORE_OUTPUT = 1.5
+#: a step that fell below this fraction of the first step (not because an output time is near) is warned
+#: about once: the run will take longer than `geompm validate` estimated
+SLOW_STEP_FRACTION = 0.1
+#: the progress bar is redrawn every this many steps (a redraw costs about a step of a small case)
+PROGRESS_EVERY = 20
+
 
 class Interrupted(Exception):
     """The run stopped on request after writing a checkpoint."""
@@ -150,9 +159,9 @@ class Runner:
         gap = target - sim.time
         if dt >= gap:
             dt = gap
-        elif 1.5 * dt > gap:
+        elif SPLIT_BEFORE_OUTPUT * dt > gap:
             dt = 0.5 * gap
-        if dt < 0.1 * self.first_dt and dt < gap:
+        if dt < SLOW_STEP_FRACTION * self.first_dt and dt < gap:
             self.warn_once("dt", f"the time step fell to {dt:.3g} s (from {self.first_dt:.3g} s) at "
                                  f"t = {sim.time:.6g} s: the run will take longer than first estimated")
         sim.step(dt)
@@ -190,7 +199,7 @@ class Runner:
                     break
                 self.advance(end)
                 self._emit()
-                if sim.step_count % 20 == 0:
+                if sim.step_count % PROGRESS_EVERY == 0:
                     bar.update(sim, sim.step_count - step0, self.t0)
                 if self.stop_reason is not None:
                     self.checkpoint()

@@ -31,7 +31,7 @@ from geompm.contract.stages import GridStage, ParticleStage
 class Simulation:
     def __init__(self, scene, nchunks: int | None = None):
         self.scene = scene
-        stages = sorted(scene.boundaries + scene.damping + scene.obstacles, key=lambda s: s.phase)
+        stages = sorted(scene.stages, key=lambda s: s.phase)
         self.grid_stages = [s for s in stages if isinstance(s, GridStage)]
         self.particle_stages = [s for s in stages if isinstance(s, ParticleStage)]
         # the nodal force and pre-update velocity are kept apart only when something reads them
@@ -78,18 +78,18 @@ class Simulation:
 
     def _step_usl(self, dt: float) -> None:
         view = self._begin(dt)
-        self.backend.g2p(view, dt, True, True, True)
+        self.backend.g2p(view, dt, set_velocity=True, move=True, gradient=True)
         self._end(view, dt)
 
     def _step_musl(self, dt: float) -> None:
         be = self.backend
         view = self._begin(dt)
-        be.g2p(view, dt, True, False, False)
+        be.g2p(view, dt, set_velocity=True, move=False, gradient=False)
         be.p2g(view, 0.0)
         be.remap_velocity(view)
         for stage in self.grid_stages:
             be.grid_stage(stage, view, dt, self.time, True)
-        be.g2p(view, dt, False, True, True)
+        be.g2p(view, dt, set_velocity=False, move=True, gradient=True)
         self._end(view, dt)
 
     def group_fronts(self) -> dict[str, float]:
@@ -119,6 +119,6 @@ class Simulation:
             "front_x": max_coordinate(st.p_x, 0),
         }
         row.update(self.group_fronts())
-        for stage in self.grid_stages + self.particle_stages:
+        for stage in dict.fromkeys(self.grid_stages + self.particle_stages):  # a stage of both kinds once
             row.update(stage.series())
         return row

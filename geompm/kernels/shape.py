@@ -30,7 +30,7 @@ def support(kind):
 def axis_stencil(xi, kind, inv_h):
     """Weights w and x-derivatives dw [1/m] of the nodes base, base+1, ... at xi = (x - origin)/h,
     as 4-tuples (zero beyond the support): the register form the 2D/3D kernels use."""
-    if kind == 1:
+    if kind == QUADRATIC:
         base = math.floor(xi - 0.5)
         f = xi - base  # in [0.5, 1.5)
         a = 1.5 - f
@@ -38,7 +38,7 @@ def axis_stencil(xi, kind, inv_h):
         c = f - 0.5
         return (int(base), (0.5 * a * a, 0.75 - b * b, 0.5 * c * c, 0.0),
                 (-a * inv_h, -2.0 * b * inv_h, c * inv_h, 0.0))
-    if kind == 0:
+    if kind == LINEAR:
         base = math.floor(xi)
         f = xi - base
         return int(base), (1.0 - f, f, 0.0, 0.0), (-inv_h, inv_h, 0.0, 0.0)

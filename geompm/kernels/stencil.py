@@ -14,12 +14,13 @@ from numba import njit
 
 from geompm.kernels.shape import axis_stencil, support
 
-__all__ = ["SCHEMES", "axis_stencil", "mls_derivatives", "scheme_tag", "stencil_tag"]
+__all__ = ["APIC", "FLIP", "MLS", "PIC", "SCHEMES", "axis_stencil", "mls_derivatives", "scheme_tag", "stencil_tag"]
 
 #: the velocity-transfer schemes in the order of their compile-time tags: a kernel reads
-#: ``mode = len(scheme) - 1`` (0 PIC, 1 APIC, 2 FLIP, 3 MLS), a constant numba folds into every
-#: branch on it, so each scheme runs its own specialisation with no run-time test of the scheme
+#: ``mode = len(scheme) - 1`` and compares it with these names, constants numba folds into every
+#: branch on them, so each scheme runs its own specialisation with no run-time test of the scheme
 SCHEMES = ("pic", "apic", "flip", "mls")
+PIC, APIC, FLIP, MLS = (SCHEMES.index(s) for s in ("pic", "apic", "flip", "mls"))
 
 
 def stencil_tag(kind: int) -> tuple:

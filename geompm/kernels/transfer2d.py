@@ -9,7 +9,7 @@ import numpy as np
 from numba import njit, prange
 
 from geompm.kernels.chunks import sum_interleaved, zero_rows
-from geompm.kernels.stencil import axis_stencil, mls_derivatives
+from geompm.kernels.stencil import APIC, FLIP, MLS, axis_stencil, mls_derivatives
 from geompm.kernels.volume import update_volume
 
 
@@ -27,7 +27,7 @@ def p2g_2d(tag, scheme, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind,
     width = c_grid.shape[2]
     nn = g_mass.shape[0]
     S = len(tag)
-    mls = len(scheme) == 4  # compile-time (stencil.scheme_tag)
+    mls = len(scheme) - 1 == MLS  # compile-time (stencil.scheme_tag)
     inv_h = 1.0 / h
     sx = nloc[1]
     for c in prange(nchunks):
@@ -119,7 +119,7 @@ def g2p_2d(tag, scheme, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_o
                 b10 += i * s1
                 b01 += t0
                 b11 += t1
-            if mode == 2 and set_velocity:  # FLIP increment, a pass of its own (see transfer3d)
+            if mode == FLIP and set_velocity:  # FLIP increment, a pass of its own (see transfer3d)
                 for i in range(S):
                     idx = base + i * sx
                     for j in range(S):
@@ -128,22 +128,22 @@ def g2p_2d(tag, scheme, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_o
                         d1 += wt * (g_vel[idx + j, 1] - g_vel_old[idx + j, 1])
             ox = bx * h + origin[0] - p_x[p, 0]
             oy = by * h + origin[1] - p_x[p, 1]
-            if mode == 3:  # MLS: L = C = (v o^T + h B) D^-1
+            if mode == MLS:  # MLS: L = C = (v o^T + h B) D^-1
                 l00, l01 = (v0 * ox + h * b00) * apic_dinv, (v0 * oy + h * b01) * apic_dinv
                 l10, l11 = (v1 * ox + h * b10) * apic_dinv, (v1 * oy + h * b11) * apic_dinv
             if set_velocity:
-                if mode == 2:
+                if mode == FLIP:
                     p_v[p, 0] = flip_ratio * (p_v[p, 0] + d0) + (1.0 - flip_ratio) * v0
                     p_v[p, 1] = flip_ratio * (p_v[p, 1] + d1) + (1.0 - flip_ratio) * v1
                 else:
                     p_v[p, 0] = v0
                     p_v[p, 1] = v1
-                if (mode == 1 or mode == 3) and S > 2:  # APIC needs D: linear hats fall back to C = L
+                if (mode == APIC or mode == MLS) and S > 2:  # APIC needs D: linear hats fall back to C = L
                     p_C[p, 0, 0] = (v0 * ox + h * b00) * apic_dinv
                     p_C[p, 0, 1] = (v0 * oy + h * b01) * apic_dinv
                     p_C[p, 1, 0] = (v1 * ox + h * b10) * apic_dinv
                     p_C[p, 1, 1] = (v1 * oy + h * b11) * apic_dinv
-                elif mode == 1:
+                elif mode == APIC:
                     p_C[p, 0, 0], p_C[p, 0, 1], p_C[p, 1, 0], p_C[p, 1, 1] = l00, l01, l10, l11
                 else:
                     p_C[p, 0, 0] = p_C[p, 0, 1] = p_C[p, 1, 0] = p_C[p, 1, 1] = 0.0

@@ -20,7 +20,7 @@ import numpy as np
 from numba import njit, prange
 
 from geompm.kernels.chunks import sum_interleaved, zero_rows
-from geompm.kernels.stencil import axis_stencil, mls_derivatives
+from geompm.kernels.stencil import APIC, FLIP, MLS, axis_stencil, mls_derivatives
 from geompm.kernels.volume import update_volume
 
 
@@ -45,7 +45,7 @@ def p2g_3d(tag, scheme, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind,
     inv_h = 1.0 / h
     sy = nloc[2]
     sx = nloc[1] * nloc[2]
-    mls = len(scheme) == 4  # compile-time (stencil.scheme_tag)
+    mls = len(scheme) - 1 == MLS  # compile-time (stencil.scheme_tag)
     affine_force = mls and not split
     for c in prange(nchunks):
         g = c_grid[c]
@@ -153,8 +153,8 @@ def g2p_3d(tag, scheme, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_o
     sx = nloc[1] * nloc[2]
     nchunks = max(1, min(n, 64 * 8))
     mode = len(scheme) - 1  # compile-time (stencil.scheme_tag)
-    flip = mode == 2
-    mls = mode == 3
+    flip = mode == FLIP
+    mls = mode == MLS
     for c in prange(nchunks):
         L = np.zeros((3, 3))
         B = np.zeros((3, 3))
@@ -348,12 +348,12 @@ def _finish(p, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, origin, h, bx, by, bz,
         dv = (d0, d1, d2)
         o = (bx * h + origin[0] - p_x[p, 0], by * h + origin[1] - p_x[p, 1], bz * h + origin[2] - p_x[p, 2])
         for a in range(3):
-            if mode == 2:
+            if mode == FLIP:
                 p_v[p, a] = flip_ratio * (p_v[p, a] + dv[a]) + (1.0 - flip_ratio) * vp[a]
             else:
                 p_v[p, a] = vp[a]
             for b in range(3):
-                if mode == 1 or mode == 3:
+                if mode == APIC or mode == MLS:
                     if S > 2:  # APIC needs D: linear hats fall back to C = L
                         p_C[p, a, b] = (vp[a] * o[b] + h * B[a, b]) * apic_dinv
                     else:

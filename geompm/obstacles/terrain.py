@@ -167,6 +167,10 @@ class Terrain(ContactForceStage):
     particle_rule = terrain_guard_rule
     particle_scratch = 12
     kind = "terrain"
+    provides_ground = True
+
+    def ground_dem(self):
+        return self.dem_path, f"{self.json_path}.dem"
 
     @classmethod
     def check(cls, params, case):
@@ -184,6 +188,7 @@ class Terrain(ContactForceStage):
         g = scene.grid
         where = f"{self.json_path}.dem"
         path = case_relative(scene.base_dir, self.params.dem)
+        self.dem_path = path
         problem = unreadable_file(path, self.params.dem)
         if problem:
             raise CaseError([(where, f"DEM {problem}")])

@@ -133,7 +133,7 @@ def _rigid_surfaces(run_dir: Path) -> list:
     except (CaseError, OSError, ValueError):
         return []
     out = []
-    for stage in scene.boundaries + scene.obstacles:
+    for stage in scene.stages:
         surf = stage.surface()
         if surf is not None and surf.kind == "line":
             out.append((f"{stage.json_path} ({stage.label})", surf))

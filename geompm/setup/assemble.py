@@ -55,6 +55,14 @@ class Scene:
     crs: str | None = None  # the case's coordinate reference system ("EPSG:2056"), if it states one
     case_text: str = ""  # the case as JSON, for provenance only (the HDF5 file's attribute); never parsed
 
+    @property
+    def stages(self) -> list:
+        """Every stage of the scene, once each, in one order: boundaries, obstacles, damping, each in the
+        case's order (the scheduler sorts them by phase, stably).  Read capabilities from this list
+        (``Stage.records_force``, ``supplies_energy``, ``provides_ground``), never by the section a stage
+        came from."""
+        return [*self.boundaries, *self.obstacles, *self.damping]
+
 
 def _body_velocity(body, pts, dim):
     v0 = np.asarray(body.velocity if body.velocity is not None else np.zeros(dim), dtype=float)
@@ -221,7 +229,7 @@ def _check_bodies_clear(scene: Scene) -> None:
     st = scene.state
     spacing = st.p_vol0 ** (1.0 / scene.dim)
     problems = []
-    for stage in scene.boundaries + scene.obstacles:
+    for stage in scene.stages:
         depth = stage.solid_depth(st.p_x)
         if depth is None:
             continue

@@ -39,6 +39,7 @@ import numpy as np
 from numba import njit
 from pydantic import Field
 
+from geompm.contract import registry
 from geompm.errors import CaseError
 from geompm.files.atomic import atomic_path, atomic_write_json, case_relative
 from geompm.contract.plugin import Params
@@ -98,6 +99,13 @@ def accumulate(sums, area, threshold, time, depth, depth_max, speed_max, pressur
             energy_max[i, j] = max(energy_max[i, j], 0.5 * sums[i, j, 5] / area)
 
 
+
+def _provides_ground(obstacle_type: str) -> bool:
+    """Whether the obstacle plugin ``obstacle_type`` declares itself a ground (Stage.provides_ground)."""
+    plugin = registry.available("obstacles").get(obstacle_type)
+    return plugin is not None and plugin.plugin.provides_ground
+
+
 class HazardMapWriter(Writer):
     name = "hazard_maps"
     files = ("maps/*.tif", "maps/summary.json")
@@ -111,21 +119,20 @@ class HazardMapWriter(Writer):
     def check(cls, params, case):
         if case.dimension != 3:
             return [("writer", "hazard maps need a 3D case (maps of a surface z = H(x, y))")]
-        if params.dem is None and not any(o.type == "terrain" for o in case.obstacles):
+        if params.dem is None and not any(_provides_ground(o.type) for o in case.obstacles):
             return [("dem", "no raster for the maps: add a terrain obstacle or give 'dem' (a GeoTIFF)")]
         return []
 
     def _raster(self, sim):
         from geompm.files.dem import read_dem
-        from geompm.obstacles.terrain import Terrain
 
         if self.params.dem is not None:
             self.dem_path = case_relative(sim.scene.base_dir, self.params.dem)
             return read_dem(self.dem_path, "outputs: hazard_maps.dem")
-        for ob in sim.scene.obstacles:
-            if isinstance(ob, Terrain):
-                self.dem_path = case_relative(sim.scene.base_dir, ob.params.dem)
-                return read_dem(self.dem_path, f"{ob.json_path}.dem")
+        for stage in sim.scene.stages:
+            if stage.provides_ground:
+                self.dem_path, where = stage.ground_dem()
+                return read_dem(self.dem_path, where)
         raise CaseError([("outputs", "hazard_maps needs a raster: add a terrain obstacle or give 'dem'")])
 
     def open(self, run_dir: Path, sim) -> None:

@@ -50,7 +50,7 @@ class SurfacesWriter(Writer):
         self.dir.mkdir(parents=True, exist_ok=True)
         self.pvd = run_dir / "surfaces.pvd"
         sc = sim.scene
-        self.parts = [(s.label, s, s.surface()) for s in sc.boundaries + sc.obstacles]
+        self.parts = [(s.label, s, s.surface()) for s in sc.stages]
         self.parts = [(label, s, surf) for label, s, surf in self.parts if surf is not None]
         self.entries: list[tuple[float, list[str]]] = []
         self.static: dict[str, str] = {}  # label -> the file of a surface that does not move
