@@ -65,6 +65,12 @@ def stable_dt(scene, state, rate: float | None = None) -> float:
     return step_limit(scene, speed, rate)
 
 
+def below_dt_min(scene, dt: float) -> bool:
+    """Whether a step ``dt`` [s] is below the case's ``time.dt_min`` (or not a number): the one test of it.
+    `geompm validate` warns, the first-step report stays silent and the health check stops the run (exit 3)."""
+    return not dt >= scene.dt_min
+
+
 def step_limit(scene, speed: float, rate: float) -> float:
     """The next step [s] from the largest c_p + |v_p| [m/s] and the largest |L_ii| [1/s]: the limits of
     the module docstring (a backend that reduces on its device calls this with its own reductions)."""

@@ -39,6 +39,7 @@ def _load(args):
 
 
 def cmd_validate(args) -> int:
+    from geompm.backend.timestep import below_dt_min
     from geompm.engine.first_step import first_step_estimate, fixed_step_problem, stage_warnings, viscous_warning
 
     loaded, scene = _load(args)
@@ -52,7 +53,7 @@ def cmd_validate(args) -> int:
           f"~{nodes} active nodes")
     steps = f"~{scene.end_time / dt:.0f} steps" if dt > 0.0 else "no step can be taken"
     print(f"estimated memory {mem / 2**20:.1f} MiB, first time step {dt:.3g} s, {steps} to t = {scene.end_time:g} s")
-    if not dt >= scene.dt_min:
+    if below_dt_min(scene, dt):
         print(f"warning: the first time step is below time.dt_min = {scene.dt_min:g} s: `geompm run` would stop "
               "before the first step (exit 3); the wave speed sqrt(E/rho), the viscosity and time.cfl set it")
     _step_limits(scene)

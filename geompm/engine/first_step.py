@@ -13,7 +13,7 @@ study/command.py).
 from __future__ import annotations
 
 from geompm.backend.cpu_loops import law_wave_speed
-from geompm.backend.timestep import stable_dt, viscous_limit, wave_limit
+from geompm.backend.timestep import below_dt_min, stable_dt, viscous_limit, wave_limit
 from geompm.engine.estimate import step_report
 from geompm.errors import CaseError
 
@@ -93,7 +93,7 @@ def viscous_warning(loaded, scene, emit) -> None:
     from geompm.engine.estimate import viscous_report
     from geompm.setup.assemble import assemble
 
-    if not stable_dt(scene, scene.state) >= scene.dt_min:
+    if below_dt_min(scene, stable_dt(scene, scene.state)):
         return  # the dt_min check speaks for this case (validate warns, run stops with exit 3)
     rep = viscous_report(scene, lambda: assemble(loaded))
     if rep is not None:

@@ -28,7 +28,7 @@ import numpy as np
 from numba import njit, prange
 
 from geompm.errors import SimulationError
-from geompm.backend.timestep import viscous_limit, wave_speed
+from geompm.backend.timestep import below_dt_min, viscous_limit, wave_speed
 
 
 @njit(parallel=True, cache=True)
@@ -137,7 +137,7 @@ class HealthCheck:
 
     def before_step(self, sim, dt) -> None:
         sc = self.scene
-        if dt >= sc.dt_min:
+        if not below_dt_min(sc, dt):
             return
         st = sim.state
         p = int(np.argmax((st.p_v ** 2).sum(axis=1)))
