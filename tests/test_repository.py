@@ -33,3 +33,34 @@ def test_shipped_cases_validate():
     for case in sorted((ROOT / "cases").glob("*.json")):
         loaded = load_case(case)
         assert loaded.case.name == case.stem
+
+
+def test_a_clone_with_nothing_beside_it_collects_every_test(tmp_path):
+    """The repository stands alone: a git clone of the committed tree, in a folder with no ``../shared``,
+    collects the same tests as this checkout's committed files, with no collection error (what the tests
+    read is in the repository: tests/refdata with its README)."""
+    import shutil
+    import subprocess
+    import sys
+
+    import pytest
+
+    if shutil.which("git") is None or not (ROOT / ".git").exists():
+        pytest.skip("not a git checkout")
+    clone = tmp_path / "alone" / "repo"
+    subprocess.run(["git", "clone", "-q", str(ROOT), str(clone)], check=True)
+    assert not (clone.parent / "shared").exists()
+
+    def collect(where):
+        out = subprocess.run([sys.executable, "-m", "pytest", "--collect-only", "-q", "-p", "no:cacheprovider",
+                              "tests"], cwd=where, capture_output=True, text=True, timeout=600)
+        ids = sorted(line for line in out.stdout.splitlines() if "::" in line)
+        return out.returncode, ids, out.stdout[-2000:] + out.stderr[-2000:]
+
+    code, ids, tail = collect(clone)
+    assert code == 0, tail
+    assert len(ids) > 500
+    committed = subprocess.run(["git", "ls-files", "tests"], cwd=ROOT, capture_output=True, text=True).stdout.split()
+    files = {i.split("::")[0] for i in ids}
+    test_files = {f for f in committed if f.split("/")[-1].startswith("test_") and f.endswith(".py")}
+    assert files == test_files
