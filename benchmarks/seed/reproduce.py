@@ -18,8 +18,9 @@ LocalCluster (`--workers` runs at once, 1 numba thread each), into OUT/3.2/<name
 - explicit: the Cross fluid as the source integrates it (cases/seed/cross.json), h = 0.02 ... 0.0025 m;
 - evp: the elasto-viscoplastic integration (cases/seed/cross_evp.json), same cell sizes;
 - evp_fixed_zeta: evp with the damping rate of h = 0.02 m on every grid (cases/seed/cross_evp_fixed_zeta.json);
-- explicit_fixed_zeta: explicit with the fixed rate at h = 0.01 m only (the finer grids' viscous step makes
-  an explicit run there cost 7 to 60 minutes at the viscosities this search needs; see the doc).
+- explicit_fixed_zeta: explicit with the fixed rate at h = 0.01 m only: at h = 0.005 m and the viscosity the
+  EVP search finds there (10.6 Pa s), the explicit viscous step makes one run take about 2.6 h on one core
+  (docs/validation/seed-dp-vs-cross.md).
 
 Then OUT/figures/ (the source's figures as this page numbers them, docs/validation/seed-inclined-flow.md and
 seed-dp-vs-cross.md), OUT/summary.md (the tables of both pages) and OUT/timing.json (wall time of each part).

@@ -46,35 +46,28 @@ def calibration(out32: Path, name: str) -> dict:
 
 
 def fig02(rows: list[dict], png: Path) -> None:
-    """Side view (x, y) of the h = 0.01 m inclined-flow run at t = 0, 0.3, 0.6 and 1.2 s, coloured by speed."""
-    import meshio
-
+    """Side view (x, y; every particle, all z) of the column at t = 0 and of the deposit at the end at each
+    mesh, coloured by displacement, from each run's last checkpoint (p_x0 and p_x; a study keeps no VTU)."""
     plt = _plt()
-    run = next(Path(r["run"]) for r in IF.baseline(rows) if r["h"] == 0.01)
-    files = sorted((run / "particles").glob("particles_*.vtu"))
-    picks = [files[i] for i in (0, 1, 2, len(files) - 1)] if len(files) >= 4 else files
-    fig, axes = plt.subplots(len(picks), 1, figsize=(9, 1.6 * len(picks) + 0.6), sharex=True)
-    for ax, f, t in zip(np.atleast_1d(axes), picks, _pvd_times(run, picks)):
-        m = meshio.read(f)
-        x, v = m.points, np.linalg.norm(m.point_data["velocity"], axis=1)
-        sc = ax.scatter(x[:, 0], x[:, 1], c=v, s=0.5, cmap="viridis", vmin=0, vmax=1.2, rasterized=True)
+    runs = IF.baseline(rows)
+    fig, axes = plt.subplots(len(runs) + 1, 1, figsize=(9, 1.5 * (len(runs) + 1) + 0.8), sharex=True)
+    for k, r in enumerate([runs[0]] + runs):
+        ck = sorted((Path(r["run"]) / "checkpoints").glob("step_*.npz"))[-1]
+        with np.load(ck) as d:
+            x0, x = d["p_x0"], d["p_x"]
+        ax = axes[k]
+        pts, t = (x0, 0.0) if k == 0 else (x, float(r["series"]["time"][-1]))
+        sc = ax.scatter(pts[:, 0], pts[:, 1], c=np.linalg.norm(x - x0, axis=1) if k else np.zeros(len(x0)),
+                        s=0.3, cmap="viridis", vmin=0.0, vmax=0.35, rasterized=True)
         ax.set_aspect("equal")
         ax.set_ylim(0, 0.16)
         ax.set_ylabel("y [m]")
-        ax.text(0.99, 0.85, f"t = {t:.2f} s", transform=ax.transAxes, ha="right", fontsize=8)
-    ax.set_xlabel("x along the 10 deg incline [m]")
-    fig.colorbar(sc, ax=axes, label="|v| [m/s]", shrink=0.8)
-    fig.suptitle("inclined flow, DP, 3D, h = 0.01 m (side view, all particles)", fontsize=10)
+        ax.text(0.99, 0.8, f"h = {r['h']:g} m, t = {t:.2f} s", transform=ax.transAxes, ha="right", fontsize=8)
+    axes[-1].set_xlabel("x along the 10 deg incline [m]")
+    fig.colorbar(sc, ax=axes, label="displacement [m]", shrink=0.8)
+    fig.suptitle("inclined flow, DP, 3D: the column (top) and its deposit at each mesh", fontsize=10)
     fig.savefig(png, dpi=130)
     plt.close(fig)
-
-
-def _pvd_times(run: Path, picks: list[Path]) -> list[float]:
-    import xml.etree.ElementTree as ET
-
-    times = {Path(e.get("file")).name: float(e.get("timestep"))
-             for e in ET.parse(run / "particles.pvd").getroot().iter("DataSet")}
-    return [times.get(f.name, float("nan")) for f in picks]
 
 
 def fig05_06(rows: list[dict], png: Path) -> None:
