@@ -23,28 +23,27 @@ import geompm
 from geompm.contract import registry
 
 from .conftest import tiny_case
+from .support import fake_dist
 
 SPEED = 0.5  # [m/s]
 
 
+PISTON = textwrap.dedent("""\
+    from geompm.obstacles.analytic import BoxObstacle
+
+    class Piston(BoxObstacle):
+        '''A rigid box pushed at a prescribed velocity (test plugin, a boundary).'''
+        name = "piston"
+        description = "test plugin: a moving rigid box, as a boundary"
+        records_force = True
+        supplies_energy = True
+    """)
+
+
 @pytest.fixture
 def piston_plugin(tmp_path, monkeypatch):
-    info = tmp_path / "piston_plugin-0.1.dist-info"
-    info.mkdir()
-    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: piston-plugin\nVersion: 0.1\n")
-    (info / "entry_points.txt").write_text("[geompm.boundaries]\npiston = piston_plugin:Piston\n")
-    (tmp_path / "piston_plugin.py").write_text(textwrap.dedent("""\
-        from geompm.obstacles.analytic import BoxObstacle
-
-        class Piston(BoxObstacle):
-            '''A rigid box pushed at a prescribed velocity (test plugin, a boundary).'''
-            name = "piston"
-            description = "test plugin: a moving rigid box, as a boundary"
-            records_force = True
-            supplies_energy = True
-        """))
-    monkeypatch.syspath_prepend(str(tmp_path))
-    registry.clear_cache()
+    fake_dist.install(tmp_path, monkeypatch, "piston-plugin",
+                      {"geompm.boundaries": {"piston": "piston_plugin:Piston"}}, {"piston_plugin": PISTON})
     yield
     registry.clear_cache()
 

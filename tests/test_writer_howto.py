@@ -10,7 +10,6 @@ threshold, and ``geompm.run`` must list its file.  A negative threshold is refus
 from __future__ import annotations
 
 import re
-import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -21,6 +20,7 @@ from geompm.contract import registry
 from geompm.errors import CaseError
 
 from .conftest import tiny_case
+from .support import fake_dist
 
 PAGE = Path(__file__).resolve().parents[1] / "docs" / "how-to" / "write-an-output-writer.md"
 G = 9.81
@@ -29,13 +29,9 @@ G = 9.81
 @pytest.fixture
 def peak_speed_plugin(tmp_path, monkeypatch):
     code = re.findall(r"```python\n(.*?)```", PAGE.read_text(), flags=re.S)[0]
-    info = tmp_path / "peak_speed_plugin-0.1.dist-info"
-    info.mkdir()
-    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: peak-speed-plugin\nVersion: 0.1\n")
-    (info / "entry_points.txt").write_text("[geompm.writers]\npeak_speed = peak_speed_plugin:PeakSpeedWriter\n")
-    (tmp_path / "peak_speed_plugin.py").write_text(code)
-    monkeypatch.syspath_prepend(str(tmp_path))
-    registry.clear_cache()
+    fake_dist.install(tmp_path, monkeypatch, "peak-speed-plugin",
+                      {"geompm.writers": {"peak_speed": "peak_speed_plugin:PeakSpeedWriter"}},
+                      {"peak_speed_plugin": code})
     yield
     registry.clear_cache()
 

@@ -71,27 +71,7 @@ def fig02(rows: list[dict], png: Path) -> None:
 
 
 def fig05_06(rows: list[dict], png: Path) -> None:
-    plt = _plt()
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7.5, 7.5), sharex=True)
-    colors = {0.02: "tab:blue", 0.01: "tab:orange", 0.005: "tab:green"}
-    for r in rows:
-        if r["E"] != 840000.0 or r["xi"] != 0.001:
-            continue
-        fixed = r["h_ref"] is not None
-        s, c = r["series"], colors.get(r["h"], "k")
-        label = f"h = {r['h']:g} m" + (", zeta fixed" if fixed else f" ({r['particles']} particles)")
-        ax1.plot(s["T_star"], s["X_star"], "--" if fixed else "-", color=c, label=label)
-        ax2.plot(s["T_star"], s["K_star"], "--" if fixed else "-", color=c, label=label)
-    ax1.set_ylabel("X* = (x_front - l0) / l0")
-    ax2.set_ylabel("K* = E_k / (m g h0)")
-    ax2.set_xlabel("T* = t sqrt(g / h0)")
-    for ax in (ax1, ax2):
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
-    ax1.set_title("inclined flow (source sec. 3.1): solid xi = 0.001, dashed zeta of h = 0.02 m", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(png, dpi=120)
-    plt.close(fig)
+    IF.plot([r for r in rows if r["E"] == 840000.0 and r["xi"] == 0.001], png)
 
 
 def fig07_08(cals: dict, png: Path) -> None:

@@ -97,15 +97,6 @@ def _run_dir_arg(path) -> Path:
     return run_dir
 
 
-def _hot_spot(stage) -> dict:
-    """status.json's peak face pressure of an obstacle whose force is spread on its faces."""
-    spot = stage.hot_spot()
-    if spot is None:
-        return {}
-    return {"peak_pressure": spot[0], "peak_pressure_at": [float(c) for c in spot[1][:stage.dim]],
-            "peak_pressure_time": spot[2]}
-
-
 def cmd_info(args) -> int:
     from geompm.engine import checkpoint
 
