@@ -24,7 +24,7 @@ and again only when the stage hands a different array.
 The spatial sort runs on the device (backend/cuda_sort.py): only its
 permutation comes to the host, for the host-only arrays.
 
-Not built yet (issue 21): kernels cached on disk (numba-cuda's cache needs a device to key on; docs/performance.md),
+Not built yet: kernels cached on disk (numba-cuda's cache needs a device to key on; docs/performance.md),
 and a measurement on a GPU.
 """
 

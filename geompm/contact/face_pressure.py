@@ -1,4 +1,4 @@
-"""An obstacle's contact force as pressures on its faces (issue 20; docs/obstacles.md).
+"""An obstacle's contact force as pressures on its faces (docs/obstacles.md).
 
 The rules share each contact node's and guard correction's force among the
 faces under its patch (sdf_field.face_lattice_ids, contact_force.record_on_face);

@@ -2,8 +2,8 @@
 
 Grid contact (base.py) acts on nodes whose signed distance is <= 0.  An
 obstacle thinner than about two cells can fall between the nodes: no node is
-inside, no node is in contact, and debris flows through it (issue 15: the
-check dam at h = 0.07 m took 0.9 N instead of ~500 N).  After G2P every
+inside, no node is in contact, and debris flows through it (without
+this guard, the check dam at h = 0.07 m took 0.9 N instead of ~500 N).  After G2P every
 particle is therefore checked against a finer signed-distance lattice of the
 obstacle (spacing ``hs`` <= h / 4 and <= a third of the obstacle's thinnest
 part):

@@ -24,9 +24,9 @@ Matching to Mohr-Coulomb (phi, c), with t = tan(phi), s = sin(phi):
           k     = c cos(phi) (1 - 3 alpha beta) / sqrt(1 - 3 beta^2)
       Associated flow (psi = phi) gives the textbook alpha = t / sqrt(9 + 12 t^2),
       k = 3 c / sqrt(9 + 12 t^2); isochoric flow (psi = 0) gives alpha = s / 3,
-      k = c cos(phi).  Using the associated alpha with psi = 0 (geompm before
-      issue 15) made the cone weaker than MC: sqrt(J2) = 0.494 p instead of
-      sin 31 deg p = 0.515 p, an effective friction angle of 29.6 deg for 31.
+      k = c cos(phi).  The associated alpha with psi = 0 would make the cone
+      weaker than MC: sqrt(J2) = 0.494 p instead of sin 31 deg p = 0.515 p,
+      an effective friction angle of 29.6 deg for 31.
   outer (triaxial compression): alpha = 2 s / (sqrt3 (3 - s)), k = 6 c cos(phi) / (sqrt3 (3 - s))
   inner (triaxial extension):   alpha = 2 s / (sqrt3 (3 + s)), k = 6 c cos(phi) / (sqrt3 (3 + s))
   middle: the mean of the outer and inner coefficients.

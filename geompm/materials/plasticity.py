@@ -118,9 +118,9 @@ def elastic_wave_speed(prm, rho):
     """P-wave speed sqrt((lambda + 2G) / rho0) [m/s] of a law with current_moduli, at any density rho.
 
     Its moduli scale with rho / rho0 (current_moduli), so (lambda + 2G) rho / rho0 / rho does not depend
-    on rho.  Before issue 15 the moduli were constant and the speed was sqrt((lambda + 2G) / rho): a
-    particle dilated to rho0 / 25 (a stress-free particle on the floor of a column collapse at h = H0/80)
-    set a step five times shorter than the material's (docs/stability.md)."""
+    on rho.  With constant moduli the speed would be sqrt((lambda + 2G) / rho): a particle dilated to
+    rho0 / 25 (a stress-free particle on the floor of a column collapse at h = H0/80) would set a step five
+    times shorter than the material's (docs/stability.md)."""
     return math.sqrt((prm[ELASTIC.lam] + 2.0 * prm[ELASTIC.G]) / prm[ELASTIC.density])
 
 

@@ -3,7 +3,7 @@
 The furthest particle is not a runout: one particle that rolls ahead of the
 deposit moves it by a cell, and more particles per cell make such outliers
 likelier, so that "runout" grows with refinement for reasons that have
-nothing to do with the bulk (issue 15).  Here the deposit is a thickness
+nothing to do with the bulk (docs/validation/column-collapse.md).  Here the deposit is a thickness
 profile instead.  Each particle stands for a square of area A_p (a volume
 per metre in plane strain; pass m_p / rho_0, the solid area, so that a
 particle whose volume grew as it separated from the flow does not thicken
