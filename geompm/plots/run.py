@@ -18,6 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from geompm.plots.figure import pyplot, save
+from geompm.writers.hazard_maps import HazardMapWriter
+from geompm.writers.series import SeriesWriter
 
 
 PNG_NAMES = ("series.png", "forces.png", "deposit.png", "map_depth_max.png", "map_speed_max.png",
@@ -140,6 +142,12 @@ def _rigid_surfaces(run_dir: Path) -> list:
     return out
 
 
+def _declared(run_dir: Path, writer, name: str) -> Path:
+    """The file ``name`` among a writer's declared ``files`` patterns, in ``run_dir``."""
+    pattern = next(p for p in writer.files if p.rsplit("/", 1)[-1] == name)
+    return run_dir / pattern
+
+
 def plot_run(run_dir: str | Path, out_dir: str | Path | None = None) -> list[Path]:
     """PNGs of a run folder: series, obstacle forces, the 2D deposit at the last saved state, and the
     hazard maps over a hillshade when the run wrote them (plots/maps.py)."""
@@ -154,7 +162,7 @@ def plot_run(run_dir: str | Path, out_dir: str | Path | None = None) -> list[Pat
     dim = int(case.get("dimension", 3))
     status = run_dir / "status.json"
     peaks = json.loads(status.read_text()).get("obstacles", {}) if status.is_file() else {}
-    series = run_dir / "series.csv"
+    series = _declared(run_dir, SeriesWriter, "series.csv")
     made = [plot_series(series, out / "series.png", run_dir.name, dim)]
     if obstacle_names(_load(series).dtype.names):
         made.append(plot_obstacle_forces(series, out / "forces.png", run_dir.name, dim, peaks))
@@ -166,7 +174,7 @@ def plot_run(run_dir: str | Path, out_dir: str | Path | None = None) -> list[Pat
             made.append(plot_deposit(arrays["p_x"], arrays["p_body"], out / "deposit.png",
                                      f"{run_dir.name}: particles at t = {meta['time']:.4g} s", names,
                                      _rigid_surfaces(run_dir)))
-    if (run_dir / "maps" / "summary.json").is_file():
+    if _declared(run_dir, HazardMapWriter, "summary.json").is_file():
         from geompm.plots.maps import plot_maps
 
         made += plot_maps(run_dir, out)
