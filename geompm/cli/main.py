@@ -201,7 +201,7 @@ def cmd_plugins(args) -> int:
 def cmd_schema(args) -> int:
     from geompm.schema.export import case_json_schema
 
-    schema = case_json_schema(built_in_only=args.built_in)
+    schema = case_json_schema(built_in_only=not args.installed)
     text = json.dumps(schema, indent=2) + "\n"
     if args.output:
         if not may_write(args.output) and not _is_case_schema(Path(args.output), schema["$id"]):
@@ -252,8 +252,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_plugins)
     p = sub.add_parser("schema", help="print the case JSON Schema (or write it with -o)")
     p.add_argument("-o", "--output", help="write to this file, e.g. schemas/case.schema.json")
-    p.add_argument("--built-in", action="store_true",
-                   help="only geompm's own plugins (how schemas/case.schema.json is made), not third-party ones")
+    p.add_argument("--installed", action="store_true",
+                   help="also the third-party plugins installed here (default: geompm's own, as schemas/case.schema.json)")
     p.set_defaults(func=cmd_schema)
     return ap
 
