@@ -36,7 +36,7 @@ def test_shipped_cases_validate():
 
 
 def test_a_clone_with_nothing_beside_it_collects_every_test(tmp_path):
-    """The repository stands alone: a git clone of the committed tree, in a folder with nothing beside it (no project folder),
+    """The repository stands alone: a git clone of the committed tree, in a folder with nothing beside it,
     collects the same tests as this checkout's committed files, with no collection error (what the tests
     read is in the repository: tests/refdata with its README)."""
     import shutil
