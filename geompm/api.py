@@ -35,6 +35,7 @@ def run(case: str | Path | dict, out: str | Path | None = None, overrides=(), pr
     ``overrides`` are KEY=VALUE strings as `geompm run --set`.  A bad case raises geompm.errors.CaseError
     naming its JSON paths, before any folder is made.  ``overwrite`` replaces only a folder geompm made;
     ``resume`` continues a stopped run from its checkpoint."""
+    # what an overwrite must never delete besides the current and home folders: the case file's folder
     protect = ((Path(case).resolve().parent, f"the case file {case}"),) if not isinstance(case, dict) else ()
     return run_case(case, out=out, overrides=overrides, progress=progress, resume=resume, overwrite=overwrite,
                     protect=protect, quiet=quiet)

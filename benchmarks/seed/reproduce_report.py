@@ -19,7 +19,8 @@ import numpy as np
 
 import inclined_flow as IF
 
-SOURCE_MU_INF = {0.02: 1.9, 0.01: 1.2, 0.005: 0.8, 0.0025: 0.6}
+from geompm.study.calibrate import SOURCE_MU_INF
+
 LABELS = {"explicit": "Cross, explicit", "evp": "Cross, elasto-viscoplastic",
           "evp_fixed_zeta": "Cross, EVP, zeta fixed", "explicit_fixed_zeta": "Cross, explicit, zeta fixed"}
 

@@ -78,15 +78,10 @@ def _step_limits(scene) -> None:
 
 
 def cmd_run(args) -> int:
-    from geompm.engine.run_case import run_case
+    from geompm.api import run
 
-    return run_case(args.case, out=args.out, overrides=args.set or [], resume=args.resume, overwrite=args.overwrite,
-                    protect=_case_folder(args), quiet=args.quiet).exit_code
-
-
-def _case_folder(args) -> tuple:
-    """What a delete must never touch besides the current and home folders: the case file's folder."""
-    return ((Path(args.case).resolve().parent, f"the case file {args.case}"),)
+    return run(args.case, out=args.out, overrides=args.set or [], resume=args.resume, overwrite=args.overwrite,
+               quiet=args.quiet).exit_code
 
 
 def _run_dir_arg(path) -> Path:
