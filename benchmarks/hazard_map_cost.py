@@ -2,7 +2,7 @@
 
     python benchmarks/hazard_map_cost.py [CELL_SIZE] [--steps 40]
 
-The sliding block of tests/test_terrain.py (30 deg DEM incline, pixel = cell size), made 4 x 4 times
+The sliding block of tests/verification/test_terrain.py (30 deg DEM incline, pixel = cell size), made 4 x 4 times
 larger in plan (1.2 m x 1.2 m x 0.15 m), stepped through the Python API; the hazard-map writer's
 per-step pass (binning the particles into the DEM's pixels and updating the maxima) is timed apart.
 """
@@ -19,7 +19,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-import tests.test_terrain as T  # noqa: E402
+import tests.verification.test_terrain as T  # noqa: E402
 from geompm.api import scene_from_dict  # noqa: E402
 from geompm.engine.scheduler import Simulation  # noqa: E402
 from geompm.writers.hazard_maps import HazardMapParams, HazardMapWriter  # noqa: E402

@@ -4,7 +4,7 @@
 
     [--cohesion C]   (a von Mises block, DP with phi = 0, yielding at C [Pa]; default elastic)
 
-The closed form and the scene: tests/test_hockey_stick.py.  Prints the block centre's stopping distance
+The closed form and the scene: tests/verification/test_hockey_stick.py.  Prints the block centre's stopping distance
 past the kink at each cell size (DEM pixel = cell size / pixel ratio) against both kink models.
 """
 
@@ -15,7 +15,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from tests.test_hockey_stick import ELASTIC, closed_form, stopping_distance  # noqa: E402
+from tests.verification.test_hockey_stick import ELASTIC, closed_form, stopping_distance  # noqa: E402
 
 
 def main():

@@ -2,7 +2,7 @@
 
     python benchmarks/terrain_incline_convergence.py [0.1 0.05 0.025]
 
-The block of tests/test_terrain.py (30 deg, mu = 0.3, slope turned 37 deg about the vertical) on the
+The block of tests/verification/test_terrain.py (30 deg, mu = 0.3, slope turned 37 deg about the vertical) on the
 terrain and on the analytic plane, with the DEM pixel equal to the cell size; prints the distance slid
 in 0.4 s against s = g (sin theta - mu cos theta) t^2 / 2, the time-mean normal force against
 M g cos theta, and the deepest particle below the ground in cells.
@@ -17,7 +17,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-import tests.test_terrain as T  # noqa: E402
+import tests.verification.test_terrain as T  # noqa: E402
 
 
 def main():

@@ -1,7 +1,7 @@
 """geompm: an explicit Material Point Method framework for geotechnical hazards.
 
 SI units throughout: metres, seconds, kilograms, pascals.  The packages, lowest layer first
-(docs/architecture.md; tests/test_layers.py holds the order and checks it):
+(docs/architecture.md; tests/repository/test_layers.py holds the order and checks it):
 
 - ``errors``, ``version``: what every layer may use;
 - ``contract``: the plugin and stage bases, parameter layouts, the entry-point registry;

@@ -44,11 +44,11 @@ here=$(cd "$(dirname "$0")" && pwd)
     bench 80 256 $p 10 --scene dp3d
   done
   for p in float32 float64; do bench 50 128 $p 30 --scene fluid3d --scene dp3d; done
-  step 70 python3 tests/cuda_parity.py --steps 200 --case cases/dam_break.json
+  step 70 python3 tests/cuda/cuda_parity.py --steps 200 --case cases/dam_break.json
   for p in float32 float64; do bench 35 64 $p 50 --scene fluid3d --scene dp3d; done
   bench 60 256 float32 10 --scene fluid3d --set solver.p2g=tiled
   bench 60 128 float32 30 --scene dp3d --set solver.p2g=tiled
   # every law and stage on the GPU against the CPU, with what is left (both sides compile cold here)
-  step 120 python3 tests/cuda_parity.py --steps 3
+  step 120 python3 tests/cuda/cuda_parity.py --steps 3
   date -u
 } 2>&1 | tee "$log"

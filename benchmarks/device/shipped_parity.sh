@@ -1,6 +1,6 @@
 #!/bin/sh
 # CPU against CUDA on every shipped case family after STEPS steps (issue 21, point 3), one JSON line per case
-# from tests/cuda_parity.py (largest relative difference of positions, velocities, stresses, densities and of
+# from tests/cuda/cuda_parity.py (largest relative difference of positions, velocities, stresses, densities and of
 # every series column, particles matched by id).  On a machine without a GPU run it under numba-cuda's
 # simulator, at the coarse grids below (the simulator runs each CUDA thread as Python):
 #   NUMBA_ENABLE_CUDASIM=1 sh benchmarks/device/shipped_parity.sh [STEPS] > shipped_parity.jsonl
@@ -11,7 +11,7 @@ run() {
   sets=""
   for kv in "$@"; do sets="$sets --set $kv"; done
   # shellcheck disable=SC2086
-  python3 tests/cuda_parity.py --steps "$steps" --case "$case_file" ${SETS-$sets} || echo "{\"case\": \"$case_file\", \"failed\": true}"
+  python3 tests/cuda/cuda_parity.py --steps "$steps" --case "$case_file" ${SETS-$sets} || echo "{\"case\": \"$case_file\", \"failed\": true}"
 }
 run cases/elastic_bar.json grid.cell_size=1.0
 run cases/dam_break.json grid.cell_size=0.02

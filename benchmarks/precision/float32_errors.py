@@ -8,7 +8,7 @@ P2G sums differs), so the errors measured here on the CPU are those of a float32
 case and cell size h, one float64 and one float32 run; one CSV row each:
 
 - bar: cases/elastic_bar.json (L = 25 m, c = 10 m/s), first-mode period from the downward zero
-  crossings of the centre-of-mass velocity over 3 periods (as tests/test_elastic_bar.py); the
+  crossings of the centre-of-mass velocity over 3 periods (as tests/verification/test_elastic_bar.py); the
   reference is the closed form 4 L / c = 10 s.
 - dambreak: cases/dam_break.json to t = 0.25 s (T = t sqrt(2g/a) = 3.5), the surge front Z = x_max/a;
   the reference is Martin & Moyce (1952), a = 2.25 in, n^2 = 2 (tests/refdata), largest relative

@@ -2,7 +2,7 @@
 volume update, and the reductions the time step and the grid window need.
 
 One thread per particle (P2G, G2P) or per node (grid update).  The arithmetic
-is that of the dimension-generic reference (tests/reference_transfer.py) and
+is that of the dimension-generic reference (tests/support/reference_transfer.py) and
 of the CPU kernels (kernels/transfer2d.py, transfer3d.py): weights from the
 same B-splines (kernels/shape.py), MLS pseudo-gradients D^-1 w (x_i - x_p),
 APIC's C = sum w v_i (x_i - x_p)^T D^-1, FLIP's blend, and

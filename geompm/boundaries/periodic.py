@@ -55,7 +55,7 @@ def periodic_wrap(prm, aux, dt, k, x, x0, v, C, m, s, work, out):
 
 class Periodic(GridStage, ParticleStage):
     name = "periodic"
-    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda_parity.py); compiles for sm_90 (tests/cuda_compile.py)
+    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda/cuda_parity.py); compiles for sm_90 (tests/cuda/cuda_compile.py)
     description = "Periodic boundary along one axis (period = grid extent)"
     Params = PeriodicParams
     phase = MERGE  # folds ghost nodes onto their images before every other grid stage

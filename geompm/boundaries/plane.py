@@ -8,7 +8,7 @@ behind the plane) gets the contact rule of contact.py (``slip``, ``fixed`` or
 
 ``contact_layer`` > 0 also puts the nodes just in front of the plane in
 contact.  With a layer of one cell a block at rest on the plane sticks down to
-mu = 1.07 tan(theta) (tests/test_boundaries.py); with 0 it needs about
+mu = 1.07 tan(theta) (tests/verification/test_boundaries.py); with 0 it needs about
 mu = 1.18 tan(theta).  The price: a body arriving at the plane stops about one
 cell earlier (closest approach of a dropped block: 1.2 cells with 0, 2.2 cells
 with one cell), see docs/method.md, "Frictional contact".
@@ -46,7 +46,7 @@ class PlaneParams(Params):
 
 class Plane(HalfSpace):
     name = "plane"
-    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda_parity.py); compiles for sm_90 (tests/cuda_compile.py)
+    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda/cuda_parity.py); compiles for sm_90 (tests/cuda/cuda_compile.py)
     description = "Rigid plane of any orientation (point, normal): slip, fixed or Coulomb friction"
     Params = PlaneParams
 

@@ -32,7 +32,7 @@ class WallParams(Params):
 
 class Wall(HalfSpace):
     name = "wall"
-    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda_parity.py); compiles for sm_90 (tests/cuda_compile.py)
+    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda/cuda_parity.py); compiles for sm_90 (tests/cuda/cuda_compile.py)
     description = "Rigid wall on a grid face: slip, fixed (no-slip) or Coulomb friction"
     Params = WallParams
 

@@ -48,7 +48,7 @@ def local_damping(prm, aux, dt, x, m, v, v_old, f, work, out):
 
 class LocalDamping(GridStage):
     name = "local"
-    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda_parity.py); compiles for sm_90 (tests/cuda_compile.py)
+    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda/cuda_parity.py); compiles for sm_90 (tests/cuda/cuda_compile.py)
     description = "Cundall local non-viscous damping on grid nodes (quasi-static stages)"
     Params = LocalParams
     phase = DAMPING

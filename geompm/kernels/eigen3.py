@@ -18,7 +18,7 @@ of them are equal (where closed-form trigonometric solutions lose digits).
 Everything is scalars and tuples: no array is allocated and no LAPACK is
 called, so the function runs inside a numba stress loop without scipy and can
 be compiled as a GPU device function.  Verified against ``numpy.linalg.eigh``
-in tests/test_eigen3.py.
+in tests/unit/test_eigen3.py.
 """
 
 from __future__ import annotations

@@ -1,8 +1,8 @@
-"""P2G and G2P specialised for 2D (plane strain): the transfers of the reference tests/reference_transfer.py
+"""P2G and G2P specialised for 2D (plane strain): the transfers of the reference tests/support/reference_transfer.py
 with the stencil as two nested loops, weights and APIC terms built up axis by
 axis (see transfer3d.py for the scheme, the stencil tag, the interleaved
 private grids, the folded force and MLS).  Same results to rounding as
-tests/reference_transfer.py with split force.
+tests/support/reference_transfer.py with split force.
 """
 
 import numpy as np

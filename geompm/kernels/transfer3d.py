@@ -1,4 +1,4 @@
-"""P2G and G2P specialised for 3D: the same transfers as the reference tests/reference_transfer.py, written
+"""P2G and G2P specialised for 3D: the same transfers as the reference tests/support/reference_transfer.py, written
 with the stencil as three nested loops so that the tensor-product weights,
 gradients and APIC terms are built up axis by axis.
 
@@ -9,7 +9,7 @@ m (v + C (x_i - x_p)) is advanced by one column of m C h per node step, so a
 node costs about 20 flops (P2G, force folded) and 18 flops (G2P).  Weights
 are register tuples and the support a compile-time constant (``tag``,
 stencil.py).  Same particle arrays and, with split force, the same results to
-rounding as the reference (tests/test_transfer_specialised.py); the private P2G
+rounding as the reference (tests/unit/test_transfer_specialised.py); the private P2G
 grids are interleaved (``c_grid``), and P2G may fold the force into the
 momentum (mpm/grid.py).  ``scheme`` (stencil.scheme_tag) selects PIC, APIC, FLIP or MLS at
 compile time; MLS-MPM (Hu et al. 2018): the

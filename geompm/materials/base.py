@@ -53,7 +53,7 @@ class Material(Plugin):
     #: the backends whose compilation of particle_stress has been checked (geompm plugins lists them;
     #: a case on another backend is refused): a law in the CUDA subset (math.* not np.* on scalars, no
     #: array creation, no np.linalg, no Python objects), checked against the CPU under numba-cuda's
-    #: simulator (tests/cuda_parity.py) and compiled for a GPU (tests/cuda_compile.py), may add "cuda"
+    #: simulator (tests/cuda/cuda_parity.py) and compiled for a GPU (tests/cuda/cuda_compile.py), may add "cuda"
     backends: ClassVar[tuple[str, ...]] = ("cpu",)
     #: names of the packed parameters (contract/layout.py)
     layout: ClassVar = param_layout("density")

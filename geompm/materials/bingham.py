@@ -61,7 +61,7 @@ def bingham_stress(prm, dt, L, rho, s, state):
 
 class Bingham(YieldFluid):
     name = "bingham"
-    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda_parity.py); compiles for sm_90 (tests/cuda_compile.py)
+    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda/cuda_parity.py); compiles for sm_90 (tests/cuda/cuda_compile.py)
     description = "Bingham viscoplastic fluid (Papanastasiou-regularised) with Tait EOS pressure"
     Params = BinghamParams
     state_vars = ("shear_rate",)

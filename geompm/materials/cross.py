@@ -13,7 +13,7 @@ mapping mu_inf = mu_B, mu_0 = 10000 mu_inf, A = mu_0 / tau_B, m = 1.  With it
 the Cross shear stress differs from Bingham's by exactly
 -(tau_B + mu_B gamma_dot) / (1 + A gamma_dot), i.e. a relative error
 -1 / (1 + A gamma_dot): under 5% for gamma_dot >= 19 tau_B / mu_0
-(tests/test_fluid_laws.py).  mu_0 sets the viscous time-step limit
+(tests/verification/test_fluid_laws.py).  mu_0 sets the viscous time-step limit
 dt <= rho h^2 / (2 d mu_0), which is small: see docs/materials.md.
 """
 
@@ -130,7 +130,7 @@ def cross_stress(prm, dt, L, rho, s, state):
 
 class Cross(YieldFluid):
     name = "cross"
-    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda_parity.py); compiles for sm_90 (tests/cuda_compile.py)
+    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda/cuda_parity.py); compiles for sm_90 (tests/cuda/cuda_compile.py)
     description = "Generalized Cross shear-thinning fluid with Tait EOS pressure (source eq. 6)"
     Params = CrossParams
     state_vars = ("shear_rate", "effective_viscosity")

@@ -141,7 +141,7 @@ def dp_stress(prm, dt, L, rho, s, state):
 
 class DruckerPrager(FrictionalMaterial):
     name = "drucker_prager"
-    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda_parity.py); compiles for sm_90 (tests/cuda_compile.py)
+    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda/cuda_parity.py); compiles for sm_90 (tests/cuda/cuda_compile.py)
     description = "Drucker-Prager elastic-perfectly plastic soil, non-associated, MC-matched cone"
     Params = DruckerPragerParams
     state_vars = ("plastic_strain", "plastic_volumetric_strain")

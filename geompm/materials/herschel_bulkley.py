@@ -90,7 +90,7 @@ def hb_stress(prm, dt, L, rho, s, state):
 
 class HerschelBulkley(YieldFluid):
     name = "herschel_bulkley"
-    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda_parity.py); compiles for sm_90 (tests/cuda_compile.py)
+    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda/cuda_parity.py); compiles for sm_90 (tests/cuda/cuda_compile.py)
     description = "Herschel-Bulkley viscoplastic fluid tau = tau_y + K gamma_dot^n (regularised), Tait EOS"
     Params = HerschelBulkleyParams
     state_vars = ("shear_rate", "effective_viscosity")

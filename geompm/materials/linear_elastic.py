@@ -37,7 +37,7 @@ def elastic_stress(prm, dt, L, rho, s, state):
 
 class LinearElastic(Material):
     name = "linear_elastic"
-    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda_parity.py); compiles for sm_90 (tests/cuda_compile.py)
+    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda/cuda_parity.py); compiles for sm_90 (tests/cuda/cuda_compile.py)
     description = "Isotropic linear elasticity (Hooke) in rate form with the Jaumann stress rate"
     Params = LinearElasticParams
     plausible = (DENSITY, YOUNGS_MODULUS)

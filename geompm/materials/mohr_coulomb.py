@@ -134,7 +134,7 @@ def mc_stress(prm, dt, L, rho, s, state):
 
 class MohrCoulomb(FrictionalMaterial):
     name = "mohr_coulomb"
-    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda_parity.py); compiles for sm_90 (tests/cuda_compile.py)
+    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda/cuda_parity.py); compiles for sm_90 (tests/cuda/cuda_compile.py)
     description = "Mohr-Coulomb elastic-perfectly plastic soil, exact return to the hexagon with corners"
     Params = MohrCoulombParams
     state_vars = ("plastic_strain", "plastic_volumetric_strain")

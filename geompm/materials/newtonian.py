@@ -36,7 +36,7 @@ def newtonian_stress(prm, dt, L, rho, s, state):
 
 class Newtonian(TaitFluid):
     name = "newtonian"
-    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda_parity.py); compiles for sm_90 (tests/cuda_compile.py)
+    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda/cuda_parity.py); compiles for sm_90 (tests/cuda/cuda_compile.py)
     description = "Weakly compressible Newtonian fluid: Tait EOS pressure plus viscous stress"
     Params = NewtonianParams
     layout = NEWTONIAN

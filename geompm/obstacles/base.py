@@ -80,7 +80,7 @@ class RigidObstacle(ContactForceStage):
 
     Params = ObstacleParams
     #: the rules are this base's (a subclass gives host-side geometry only): checked against the CPU under
-    #: numba-cuda's simulator (tests/cuda_parity.py)
+    #: numba-cuda's simulator (tests/cuda/cuda_parity.py)
     backends = ("cpu", "cuda")
     node_rule = obstacle_node_rule
     node_scratch = 7 * 3 + 1

@@ -16,7 +16,7 @@ point's distance to that plane is phi = (p - (q, H(q))) . n, and the plane's
 closest point gives the next foot, q <- (p - phi n)_xy.  Three such steps.
 On a plane the first is exact; on a curved surface the foot converges to
 the closest point (the normal of the closest point passes through p).
-tests/test_terrain.py measures it against the exact distance to a
+tests/verification/test_terrain.py measures it against the exact distance to a
 paraboloid.  A point above the surface (z > H(x, y)) is outside, one below
 inside, exactly.  The vertical gap g = z - H(x, y) bounds the distance,
 phi >= g cos(theta_max) (theta_max the steepest DEM slope), which lets most
@@ -159,7 +159,7 @@ def terrain_guard_rule(prm, z, dt, k, x, x0, v, C, m, s, work, out):
 
 class Terrain(ContactForceStage):
     name = "terrain"
-    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda_parity.py); compiles for sm_90 (tests/cuda_compile.py)
+    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda/cuda_parity.py); compiles for sm_90 (tests/cuda/cuda_compile.py)
     description = "Rigid terrain from a DEM (GeoTIFF / ESRI ASCII grid): Coulomb friction, force history (3D)"
     Params = TerrainParams
     node_rule = terrain_node_rule

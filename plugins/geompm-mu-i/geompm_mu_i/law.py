@@ -98,7 +98,7 @@ GRAIN_DENSITY = Plausible("grain_density", low=500.0,
 class MuI(Material):
     name = "mu_i"
     plausible = (DENSITY, YOUNGS_MODULUS, GRAIN_DIAMETER, GRAIN_DENSITY)
-    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator, compiles for sm_90 (geompm's tests/cuda_parity.py, cuda_compile.py)
+    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator, compiles for sm_90 (geompm's tests/cuda/cuda_parity.py, cuda_compile.py)
     description = "mu(I) granular rheology (Jop, Forterre & Pouliquen 2006), elastoplastic form"
     Params = MuIParams
     state_vars = ("inertial_number", "plastic_strain")
