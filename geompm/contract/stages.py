@@ -31,9 +31,10 @@ import numpy as np
 from geompm.contract.plugin import Plugin
 
 #: stage phases, in the order they run each step (stable within a phase: the case's order).  Node
-#: merging (periodic folding) first, then damping; boundaries and obstacles have the last word on
-#: grid velocities; the same order holds for the particle passes.
-MERGE, DAMPING, BOUNDARY, OBSTACLE = 0, 1, 2, 3
+#: merging (periodic folding) first, then external loads (which damping must see in the nodal force, as
+#: it sees gravity), then damping; boundaries and obstacles have the last word on grid velocities; the
+#: same order holds for the particle passes.
+MERGE, LOAD, DAMPING, BOUNDARY, OBSTACLE = 0, 1, 2, 3, 4
 
 
 class Stage(Plugin):
@@ -41,7 +42,8 @@ class Stage(Plugin):
     #: the backends whose compilation of this stage's rules has been checked (as Material.backends)
     backends: ClassVar[tuple[str, ...]] = ("cpu",)
     #: capabilities, read by the engine, writers and commands from every stage of a scene (never by name):
-    #: it drives material and may add kinetic energy (``supplied_speed``; the health check's budget)
+    #: it drives material or loads it and may add kinetic energy (``supplied_speed``, ``supplied_work``: the
+    #: health check's budget)
     supplies_energy: ClassVar[bool] = False
     #: it records the contact force it exerts (``peak_force``, ``hot_spot``, ``series`` columns
     #: <label>_fx ...; status.json's force entries, `geompm info`, `study --metric peak_force:LABEL`)
@@ -71,6 +73,11 @@ class Stage(Plugin):
 
     def supplied_speed(self) -> float:
         """Largest speed [m/s] at which the stage drives material (a moving obstacle); 0 if it drives none."""
+        return 0.0
+
+    def supplied_work(self) -> float:
+        """Work [J, J/m in 2D] the stage's applied force has done on the material so far (the positive part;
+        a surface load), 0 for a stage that applies none."""
         return 0.0
 
     def peak_force(self) -> tuple[float, float] | None:

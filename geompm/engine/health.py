@@ -126,11 +126,11 @@ class HealthCheck:
             raise SimulationError(
                 f"NaN or Inf in the {field} of {describe_particle(sim, p)} ({bad} particles affected). Likely cause: "
                 f"{self._likely_cause(sim)}")
-        allowed = self.budget0 + max(wg, 0.0)
+        allowed = self.budget0 + max(wg, 0.0) + sum(s.supplied_work() for s in sc.stages if s.supplies_energy)
         if ek > 2.0 * allowed + self.floor:
             p = int(np.argmax((st.p_v ** 2).sum(axis=1)))
             raise SimulationError(
-                f"kinetic energy {ek:.4g} J exceeds what gravity, the initial stress and moving obstacles can "
+                f"kinetic energy {ek:.4g} J exceeds what gravity, the initial stress, moving obstacles and loads can "
                 f"supply ({allowed:.4g} J) at step {sim.step_count}, t = {sim.time:.6g} s; fastest: "
                 f"{describe_particle(sim, p)}, |v| = {np.linalg.norm(st.p_v[p]):.4g} m/s. Likely cause: "
                 f"{self._likely_cause(sim)}")

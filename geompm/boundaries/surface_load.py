@@ -1,0 +1,238 @@
+"""Surface load: a pressure or a traction on a body's surface, constant or ramped in time.
+
+The load acts on the particles that start inside ``region`` (a box, selected by their initial positions
+x0, so the loaded particles are the same whatever the material does later). Its total force is
+
+    F(t) = r(t) A t_s,    r(t) = min(1, t / ramp_time)   (r = 1 when ramp_time = 0),
+
+with ``t_s`` the traction [Pa]: ``traction`` as given, or t_s = -q n_hat for a ``pressure`` q (positive
+pushes into the body) on a surface whose outward normal is ``normal``; A is the area of the box seen along
+the normal, A = sum_a |n_a| prod_{b != a} (max_b - min_b) (the face area for an axis-aligned normal; per
+metre of width in 2D). F is shared among the loaded particles by mass (f_p = m_p F / M_loaded) and
+enters the grid as an external nodal force, f_i += sum_p w_ip f_p, before damping and the boundaries:
+exactly how gravity enters, so Cundall's local damping sees the unbalanced force with the load in it.
+(Adding the load to the particles' velocities instead would hide it from local damping, which then
+holds the body at q / (1 + alpha): measured 0.77 q at alpha = 0.3.)
+
+Make the box cover the top row of particles of the loaded face (a depth of half a cell with 2 particles
+per cell): the load then enters at the surface, and below that row the body carries it. In the confined
+elastic column (tests/verification/test_surface_load.py) the settlement equals q H / M,
+M = E (1 - nu) / ((1 + nu)(1 - 2 nu)) (the oedometric modulus), within the errors tabled in
+docs/case-format.md.
+
+Particle-set tractions load bodies the same way in CB-Geo's MPM (Kumar et al. 2019,
+arXiv:1909.13380). Detecting the free surface automatically is left to the pore-water formulation,
+which needs it for drainage. Each pass finds the loaded particles by their x0 (one pass over the
+particles, on the host) and scatters their forces serially: the cost is that of a small host pass per
+step, paid only by cases with a surface load.
+
+The stage supplies energy: the work its force does on the material (the positive part of each step's
+sum_i f_i . v_i dt) joins the health check's budget (engine/health.py), so a loaded body that
+accelerates is not mistaken for a blow-up.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+from geompm.contract.layout import pack_in_layout, param_layout
+from geompm.contract.plugin import Params
+from geompm.contract.stages import LOAD, GridStage
+from geompm.errors import CaseError
+from geompm.kernels.shape import axis_stencil, support
+
+#: packed parameters: the grid origin [m] and 1/h [1/m], the first node (global index) of the load's
+#: node lattice and its node counts
+LOAD_PRM = param_layout("origin_x", "origin_y", "origin_z", "inv_h", "lo_x", "lo_y", "lo_z", "n_x", "n_y", "n_z")
+ORIGIN0, LO0, N0 = LOAD_PRM.origin_x, LOAD_PRM.lo_x, LOAD_PRM.n_x
+#: accumulator slots: the applied force (3) [N, N/m in 2D] and its work this step [J, J/m]
+APPLIED0, WORK = 0, 3
+
+
+class LoadRegion(BaseModel):
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
+    min: list[float] = Field(description="Lower corner of the box that selects the loaded particles [m]")
+    max: list[float] = Field(description="Upper corner [m]")
+
+
+class SurfaceLoadParams(Params):
+    region: LoadRegion = Field(description="Box selecting the loaded particles by their initial position [m]")
+    normal: list[float] = Field(description="Outward normal of the loaded surface (any length)")
+    pressure: float | None = Field(None, description="Pressure q [Pa], positive pushing into the body "
+                                                     "(give this or traction)")
+    traction: list[float] | None = Field(None, description="Traction vector t [Pa] (give this or pressure)")
+    ramp_time: float = Field(0.0, ge=0.0, description="The load grows linearly from 0 to its value over "
+                                                      "this time [s] (0: applied at once)")
+
+    @field_validator("normal")
+    @classmethod
+    def _nonzero(cls, v):
+        if not any(abs(c) > 0 for c in v):
+            raise ValueError("the normal must not be the zero vector")
+        return v
+
+    @model_validator(mode="after")
+    def _one_load(self):
+        if (self.pressure is None) == (self.traction is None):
+            raise ValueError("give exactly one of 'pressure' [Pa] and 'traction' [Pa]")
+        return self
+
+
+@njit(cache=True, inline="always")
+def surface_load_rule(prm, aux, dt, x, m, v, v_old, f, work, out):
+    """The node's share of the load, aux[3 k : 3 k + 3] for its index k in the load's lattice, added to
+    its force and, as dt f / m, to its velocity; out sums the applied force and its work f . v dt."""
+    d = x.shape[0]
+    k = 0
+    for a in range(d):
+        i = int(round((x[a] - prm[ORIGIN0 + a]) * prm[LOAD_PRM.inv_h])) - int(prm[LO0 + a])
+        n = int(prm[N0 + a])
+        if i < 0 or i >= n:
+            return
+        k = k * n + i
+    for a in range(d):
+        fa = aux[3 * k + a]
+        f[a] += fa
+        v[a] += dt * fa / m
+        out[APPLIED0 + a] += fa
+        out[WORK] += fa * v[a] * dt
+
+
+@njit(cache=True)
+def scatter_load(p_x, loaded, p_mass, accel, origin, inv_h, kind, lo, n, forces):
+    """forces[k] += w_ip m_p accel for each loaded particle p and node k of the lattice (first node lo,
+    counts n): the nodal external force of the particles' share of the load."""
+    d = p_x.shape[1]
+    for q in range(loaded.shape[0]):
+        p = loaded[q]
+        b0, w0, _ = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
+        b1, w1, _ = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
+        b2, w2 = 0, (1.0, 0.0, 0.0, 0.0)
+        s2 = 1
+        if d == 3:
+            b2, w2, _ = axis_stencil((p_x[p, 2] - origin[2]) * inv_h, kind, inv_h)
+            s2 = 4
+        for i in range(4):
+            for j in range(4):
+                for l in range(s2):
+                    w = w0[i] * w1[j] * w2[l]
+                    if w == 0.0:
+                        continue
+                    k = (b0 + i - lo[0]) * n[1] + (b1 + j - lo[1])
+                    if d == 3:
+                        k = k * n[2] + (b2 + l - lo[2])
+                    for a in range(d):
+                        forces[3 * k + a] += w * p_mass[p] * accel[a]
+
+
+def projected_area(lo, hi, n_hat) -> float:
+    """Area [m2, m in 2D] of the box [lo, hi] seen along the unit vector n_hat."""
+    ext = np.asarray(hi, float) - np.asarray(lo, float)
+    d = len(ext)
+    return float(sum(abs(n_hat[a]) * np.prod([ext[b] for b in range(d) if b != a]) for a in range(d)))
+
+
+class SurfaceLoad(GridStage):
+    name = "surface_load"
+    description = "Pressure or traction on a body's surface (the particles in a box), constant or ramped"
+    Params = SurfaceLoadParams
+    phase = LOAD
+    supplies_energy = True
+    #: the load is added to the nodal force that local damping reads, so the force is kept apart
+    needs_split_force = True
+    node_rule = surface_load_rule
+    node_reduction = 4
+
+    @classmethod
+    def check(cls, params, case):
+        d = case.dimension
+        problems = [(k, f"must have {d} entries (one per dimension)")
+                    for k, vec in (("region.min", params.region.min), ("region.max", params.region.max),
+                                   ("normal", params.normal), ("traction", params.traction))
+                    if vec is not None and len(vec) != d]
+        if not problems and any(a >= b for a, b in zip(params.region.min, params.region.max)):
+            problems.append(("region", "min must be below max on every axis"))
+        return problems
+
+    def setup(self, scene):
+        st = scene.state
+        p = self.params
+        self.state, self.grid = st, scene.grid
+        self.dim = d = st.p_x.shape[1]
+        self.lo = np.asarray(p.region.min, float)
+        self.hi = np.asarray(p.region.max, float)
+        inside = self.loaded()
+        self.count = len(inside)
+        if self.count == 0:
+            raise CaseError([(f"{self.json_path}.region", f"surface load '{self.label}': no particle starts "
+                              f"inside the box {list(p.region.min)} to {list(p.region.max)} m; make it cover "
+                              f"the top row of particles of the loaded face")])
+        self.loaded_mass = float(st.p_mass[inside].sum())
+        n = np.asarray(p.normal, float)
+        n_hat = n / np.linalg.norm(n)
+        self.area = projected_area(self.lo, self.hi, n_hat)
+        traction = -p.pressure * n_hat if p.pressure is not None else np.asarray(p.traction, float)
+        self.force = self.area * traction  # at full load [N, N/m in 2D]
+        self.work = 0.0  # positive part of the load's work so far [J, J/m in 2D]
+        self.applied = np.zeros(d)
+        self._box = None
+
+    def loaded(self) -> np.ndarray:
+        """Indices of the particles that started inside the box, in the current particle order."""
+        x0 = self.state.p_x0
+        return np.nonzero(np.all((x0 >= self.lo) & (x0 <= self.hi), axis=1))[0]
+
+    def ramp(self, time: float) -> float:
+        tr = self.params.ramp_time
+        return 1.0 if tr <= 0.0 else min(1.0, max(time, 0.0) / tr)
+
+    def grid_args(self, dt, time, remap):
+        if remap:
+            return None  # the MUSL re-mapped velocities already carry this step's load
+        st, g = self.state, self.grid
+        d = self.dim
+        idx = self.loaded()
+        x = st.p_x[idx]
+        r = support(g.kind)
+        first = np.floor((x.min(axis=0) - g.origin) / g.h).astype(np.int64) - r
+        last = np.floor((x.max(axis=0) - g.origin) / g.h).astype(np.int64) + r
+        n = last - first + 1
+        forces = np.zeros(3 * int(np.prod(n)))
+        accel = self.ramp(time + dt) * self.force / self.loaded_mass
+        scatter_load(st.p_x, idx, st.p_mass, accel, g.origin, 1.0 / g.h, g.kind, first, n, forces)
+        prm = np.zeros(len(LOAD_PRM))
+        prm[ORIGIN0:ORIGIN0 + d] = g.origin
+        prm[LOAD_PRM.inv_h] = 1.0 / g.h
+        prm[LO0:LO0 + d] = first
+        prm[N0:N0 + d] = n
+        self._box = (first, last)
+        return prm, forces
+
+    def node_box(self, time):
+        return self._box
+
+    def grid_reduced(self, out, dt, time, remap):
+        total = out.sum(axis=0)
+        self.applied = total[APPLIED0:APPLIED0 + self.dim].copy()
+        self.work += max(float(total[WORK]), 0.0)
+
+    def supplied_work(self) -> float:
+        return self.work
+
+    def series(self):
+        row = {f"{self.label}_load_{c}": float(self.applied[a]) for a, c in enumerate("xyz"[:self.dim])}
+        row[f"{self.label}_load_work"] = self.work
+        return row
+
+    def summary(self):
+        unit = "N" if self.dim == 3 else "N/m"
+        return (f"surface load '{self.label}': {self.count} particles, area {self.area:.4g} "
+                f"{'m2' if self.dim == 3 else 'm per m'}, full force {np.linalg.norm(self.force):.4g} {unit}")
+
+    def state_dict(self):
+        return {"work": self.work}
+
+    def load_state(self, state):
+        self.work = float(state.get("work", 0.0))
