@@ -24,7 +24,7 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, field_validator
 
-from geompm.contract.plugin import Params, vector_length_problems
+from geompm.contract.plugin import Params, nonzero_vector, vector_length_problems
 from geompm.boundaries.halfspace import HalfSpace
 
 
@@ -36,12 +36,7 @@ class PlaneParams(Params):
     contact_layer: float = Field(
         0.0, ge=0.0, description="Nodes with signed distance <= this [m] are in contact (0: on or behind)")
 
-    @field_validator("normal")
-    @classmethod
-    def _nonzero(cls, v):
-        if not any(abs(c) > 0 for c in v):
-            raise ValueError("the normal must not be the zero vector")
-        return v
+    _nonzero = field_validator("normal")(nonzero_vector)
 
 
 class Plane(HalfSpace):

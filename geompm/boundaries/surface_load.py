@@ -37,8 +37,8 @@ import numpy as np
 from numba import njit
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
-from geompm.contract.layout import pack_in_layout, param_layout
-from geompm.contract.plugin import Params
+from geompm.contract.layout import param_layout
+from geompm.contract.plugin import Params, nonzero_vector
 from geompm.contract.stages import LOAD, GridStage
 from geompm.errors import CaseError
 from geompm.kernels.shape import axis_stencil, support
@@ -66,12 +66,7 @@ class SurfaceLoadParams(Params):
     ramp_time: float = Field(0.0, ge=0.0, description="The load grows linearly from 0 to its value over "
                                                       "this time [s] (0: applied at once)")
 
-    @field_validator("normal")
-    @classmethod
-    def _nonzero(cls, v):
-        if not any(abs(c) > 0 for c in v):
-            raise ValueError("the normal must not be the zero vector")
-        return v
+    _nonzero = field_validator("normal")(nonzero_vector)
 
     @model_validator(mode="after")
     def _one_load(self):

@@ -35,3 +35,11 @@ def vector_length_problems(params, case, keys) -> list[tuple[str, str]]:
     """(key, message) for every vector parameter in ``keys`` whose length is not the case's dimension."""
     return [(k, f"must have {case.dimension} entries (one per dimension)")
             for k in keys if getattr(params, k) is not None and len(getattr(params, k)) != case.dimension]
+
+
+def nonzero_vector(cls, v):
+    """A pydantic field validator (``field_validator("normal")(nonzero_vector)``): a direction must not be
+    the zero vector."""
+    if v is not None and not any(abs(c) > 0 for c in v):
+        raise ValueError("the normal must not be the zero vector")
+    return v
