@@ -22,9 +22,9 @@ docs/case-format.md.
 
 Particle-set tractions load bodies the same way in CB-Geo's MPM (Kumar et al. 2019,
 arXiv:1909.13380). Detecting the free surface automatically is left to the pore-water formulation,
-which needs it for drainage. Each pass finds the loaded particles by their x0 (one pass over the
-particles, on the host) and scatters their forces serially: the cost is that of a small host pass per
-step, paid only by cases with a surface load.
+which needs it for drainage. Each pass checks the loaded particles' indices against their x0 (a pass
+over the loaded particles only, unless a sort or a deletion moved them) and scatters their forces
+serially on the host: a cost in proportion to the loaded surface, paid only by cases with a load.
 
 The stage supplies energy: the work its force does on the material (the positive part of each step's
 sum_i f_i . v_i dt) joins the health check's budget (engine/health.py), so a loaded body that
@@ -158,13 +158,12 @@ class SurfaceLoad(GridStage):
         self.dim = d = st.p_x.shape[1]
         self.lo = np.asarray(p.region.min, float)
         self.hi = np.asarray(p.region.max, float)
-        inside = self.loaded()
-        self.count = len(inside)
+        self._idx, self.count = None, -1
+        self.loaded()
         if self.count == 0:
             raise CaseError([(f"{self.json_path}.region", f"surface load '{self.label}': no particle starts "
                               f"inside the box {list(p.region.min)} to {list(p.region.max)} m; make it cover "
                               f"the top row of particles of the loaded face")])
-        self.loaded_mass = float(st.p_mass[inside].sum())
         n = np.asarray(p.normal, float)
         n_hat = n / np.linalg.norm(n)
         self.area = projected_area(self.lo, self.hi, n_hat)
@@ -174,10 +173,23 @@ class SurfaceLoad(GridStage):
         self.applied = np.zeros(d)
         self._box = None
 
+    def _inside(self, x0) -> np.ndarray:
+        return np.all((x0 >= self.lo) & (x0 <= self.hi), axis=1)
+
     def loaded(self) -> np.ndarray:
-        """Indices of the particles that started inside the box, in the current particle order."""
-        x0 = self.state.p_x0
-        return np.nonzero(np.all((x0 >= self.lo) & (x0 <= self.hi), axis=1))[0]
+        """Indices of the particles that started inside the box, in the current particle order. The last
+        answer is kept and checked in O(loaded particles): it still holds when every index it names is a
+        loaded particle and their number has not changed (a sort permutes, a deletion shrinks). Otherwise
+        one pass over all particles finds them again and the loaded mass is summed anew."""
+        idx = getattr(self, "_idx", None)
+        st = self.state
+        if idx is not None and (len(idx) == 0 or idx[-1] < st.n) and len(idx) == self.count \
+                and self._inside(st.p_x0[idx]).all():
+            return idx
+        idx = np.nonzero(self._inside(st.p_x0))[0]
+        self._idx, self.count = idx, len(idx)
+        self.loaded_mass = float(st.p_mass[idx].sum())
+        return idx
 
     def ramp(self, time: float) -> float:
         tr = self.params.ramp_time
