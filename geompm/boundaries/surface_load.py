@@ -1,7 +1,10 @@
 """Surface load: a pressure or a traction on a body's surface, constant or ramped in time.
 
-The load acts on the particles that start inside ``region`` (a box, selected by their initial positions
-x0, so the loaded particles are the same whatever the material does later). Its total force is
+The load acts on the body's face inside ``region``: of the particles whose initial position x0 lies in
+the box, those outermost along the normal in their column (``outermost_in_box``: on a seeding lattice and
+an axis-aligned normal, exactly the face row of particles; for an oblique normal, the outermost in bins one
+particle spacing wide). They are chosen once, by their ids, so the loaded particles stay the same whatever
+the material does later. Its total force is
 
     F(t) = r(t) A t_s,    r(t) = min(1, t / ramp_time)   (r = 1 when ramp_time = 0),
 
@@ -14,8 +17,8 @@ exactly how gravity enters, so Cundall's local damping sees the unbalanced force
 (Adding the load to the particles' velocities instead would hide it from local damping, which then
 holds the body at q / (1 + alpha): measured 0.77 q at alpha = 0.3.)
 
-Make the box cover the top row of particles of the loaded face (a depth of half a cell with 2 particles
-per cell): the load then enters at the surface, and below that row the body carries it. In the confined
+The box may reach as deep into the body as convenient: only the face row is loaded, and below it the
+body carries the load. In the confined
 elastic column (tests/verification/test_surface_load.py) the settlement equals q H / M,
 M = E (1 - nu) / ((1 + nu)(1 - 2 nu)) (the oedometric modulus), within the errors tabled in
 docs/case-format.md.
@@ -122,6 +125,30 @@ def scatter_load(p_x, loaded, p_mass, accel, origin, inv_h, kind, lo, n, forces)
                         forces[3 * k + a] += w * p_mass[p] * accel[a]
 
 
+def outermost_in_box(x0, vol0, lo, hi, n_hat) -> np.ndarray:
+    """Indices of the particles inside the box [lo, hi] that are outermost along n_hat in their column:
+    the box's particles binned by their coordinates across n_hat (bins of the smallest particle spacing
+    V0^(1/d)), the largest x0 . n_hat in each bin. On a seeding lattice and an axis-aligned normal a
+    column is one lattice line, so this is exactly the body's face row inside the box."""
+    inside = np.nonzero(np.all((x0 >= lo) & (x0 <= hi), axis=1))[0]
+    if len(inside) == 0:
+        return inside
+    d = x0.shape[1]
+    pts = x0[inside]
+    spacing = float(vol0[inside].min()) ** (1.0 / d)
+    # an orthonormal basis whose first vector is n_hat: the other d - 1 are the coordinates across it
+    basis = np.linalg.qr(np.column_stack([n_hat, np.eye(d)[:, :d - 1]]))[0]
+    coords = pts @ basis[:, 1:]
+    # lattice columns sit whole spacings from the first one: rounding to the nearest is far from a tie
+    across = np.rint((coords - coords.min(axis=0)) / spacing).astype(np.int64)
+    height = pts @ n_hat
+    order = np.lexsort((-height, *across.T[::-1]))  # by column, the outermost first in each
+    cols = across[order]
+    first = np.ones(len(order), bool)
+    first[1:] = np.any(cols[1:] != cols[:-1], axis=1)
+    return inside[order[first]]
+
+
 def projected_area(lo, hi, n_hat) -> float:
     """Area [m2, m in 2D] of the box [lo, hi] seen along the unit vector n_hat."""
     ext = np.asarray(hi, float) - np.asarray(lo, float)
@@ -158,14 +185,15 @@ class SurfaceLoad(GridStage):
         self.dim = d = st.p_x.shape[1]
         self.lo = np.asarray(p.region.min, float)
         self.hi = np.asarray(p.region.max, float)
+        n = np.asarray(p.normal, float)
+        n_hat = n / np.linalg.norm(n)
+        self.loaded_ids = np.sort(st.p_id[outermost_in_box(st.p_x0, st.p_vol0, self.lo, self.hi, n_hat)])
         self._idx, self.count = None, -1
         self.loaded()
         if self.count == 0:
             raise CaseError([(f"{self.json_path}.region", f"surface load '{self.label}': no particle starts "
                               f"inside the box {list(p.region.min)} to {list(p.region.max)} m; make it cover "
-                              f"the top row of particles of the loaded face")])
-        n = np.asarray(p.normal, float)
-        n_hat = n / np.linalg.norm(n)
+                              f"the loaded face")])
         self.area = projected_area(self.lo, self.hi, n_hat)
         traction = -p.pressure * n_hat if p.pressure is not None else np.asarray(p.traction, float)
         self.force = self.area * traction  # at full load [N, N/m in 2D]
@@ -173,20 +201,17 @@ class SurfaceLoad(GridStage):
         self.applied = np.zeros(d)
         self._box = None
 
-    def _inside(self, x0) -> np.ndarray:
-        return np.all((x0 >= self.lo) & (x0 <= self.hi), axis=1)
-
     def loaded(self) -> np.ndarray:
-        """Indices of the particles that started inside the box, in the current particle order. The last
+        """Indices of the loaded particles (ids ``loaded_ids``) in the current particle order. The last
         answer is kept and checked in O(loaded particles): it still holds when every index it names is a
         loaded particle and their number has not changed (a sort permutes, a deletion shrinks). Otherwise
         one pass over all particles finds them again and the loaded mass is summed anew."""
-        idx = getattr(self, "_idx", None)
+        idx = self._idx
         st = self.state
-        if idx is not None and (len(idx) == 0 or idx[-1] < st.n) and len(idx) == self.count \
-                and self._inside(st.p_x0[idx]).all():
+        if idx is not None and len(idx) == self.count and (len(idx) == 0 or idx[-1] < st.n) \
+                and np.isin(st.p_id[idx], self.loaded_ids, assume_unique=True).all():
             return idx
-        idx = np.nonzero(self._inside(st.p_x0))[0]
+        idx = np.nonzero(np.isin(st.p_id, self.loaded_ids))[0]
         self._idx, self.count = idx, len(idx)
         self.loaded_mass = float(st.p_mass[idx].sum())
         return idx

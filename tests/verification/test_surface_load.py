@@ -14,6 +14,9 @@
   column equals -q W r(t) at every output (2D), and the full traction times the face area in 3D (the
   nodal shares sum to it: partition of unity), both to 1e-9. geompm.run's health check accepts the
   kinetic energy the load supplies.
+- Only the face row inside the box is loaded: a box reaching half-way down the column selects the same
+  particles (the top row, ids equal) as a box half a cell deep, and with a normal along -x the particles
+  of the left face.
 - Bad input is refused with the JSON path: an empty box, both or neither of pressure and traction.
 """
 
@@ -86,3 +89,23 @@ def test_bad_loads_are_refused_with_the_json_path(change, where):
     with pytest.raises(CaseError) as err:
         scene_from_dict(case)
     assert any(path.startswith(where) for path, _ in err.value.problems), err.value.problems
+
+
+def test_only_the_face_row_inside_the_box_is_loaded():
+    h = 0.1
+
+    def loaded(region, normal):
+        case = column_case(h)
+        case["boundaries"][3].update(region=region, normal=normal)
+        scene = scene_from_dict(case)
+        load = next(s for s in scene.stages if type(s).__name__ == "SurfaceLoad")
+        return load.loaded_ids, scene.state
+
+    thin, st = loaded({"min": [0.0, H - h / 2], "max": [W, H]}, [0.0, 1.0])
+    deep, _ = loaded({"min": [0.0, H / 2], "max": [W, H]}, [0.0, 1.0])
+    assert len(thin) == round(W / (h / 2)) == 4
+    np.testing.assert_array_equal(thin, deep)
+    assert np.allclose(st.p_x0[np.isin(st.p_id, thin), 1], H - h / 4)
+    left, st = loaded({"min": [0.0, 0.0], "max": [W / 2, H]}, [-1.0, 0.0])
+    assert len(left) == round(H / (h / 2))
+    assert np.allclose(st.p_x0[np.isin(st.p_id, left), 0], h / 4)
