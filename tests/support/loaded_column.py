@@ -1,34 +1,35 @@
 """A laterally confined elastic column under a surface load (boundaries/surface_load.py), weightless, brought
-to rest by Cundall's local damping: the case and its closed form (tests/verification/test_surface_load.py,
-benchmarks/surface_load/column.py)."""
+to rest by Cundall's local damping: cases/loaded_column.json at any cell size, and its closed form
+(tests/verification/test_surface_load.py, benchmarks/surface_load/column.py)."""
+
+import copy
+import json
 
 import numpy as np
 
 from geompm.api import scene_from_dict
 from geompm.engine.scheduler import Simulation
 
-E, NU, RHO = 10e6, 0.3, 2000.0  # [Pa], [-], [kg/m3]
-Q, H, W = 10e3, 1.0, 0.2  # pressure [Pa], column height and width [m]
+from .cases import CASES
+
+CASE = CASES / "loaded_column.json"
+_RAW = json.loads(CASE.read_text())
+_SOIL = _RAW["materials"]["soil"]
+E, NU, RHO = _SOIL["youngs_modulus"], _SOIL["poisson_ratio"], _SOIL["density"]  # [Pa], [-], [kg/m3]
+Q = _RAW["boundaries"][3]["pressure"]  # [Pa]
+H, W = _RAW["bodies"][0]["geometry"]["max"][1], _RAW["bodies"][0]["geometry"]["max"][0]  # column height, width [m]
 M = E * (1 - NU) / ((1 + NU) * (1 - 2 * NU))  # oedometric (constrained) modulus [Pa]
-END = 0.3  # [s]: about 25 P-wave transits of the column (c = sqrt(M / rho) = 82 m/s)
+END = _RAW["time"]["end"]  # [s]: about 25 P-wave transits of the column (c = sqrt(M / rho) = 82 m/s)
 
 
-def column_case(h: float, ramp: float = 0.05, alpha: float = 0.3) -> dict:
-    return {"name": "loaded_column", "dimension": 2,
-            "grid": {"origin": [0.0, 0.0], "extent": [W, H + 2 * h], "cell_size": h},
-            "time": {"end": END, "cfl": 0.4}, "gravity": [0.0, 0.0],
-            "materials": {"soil": {"model": "linear_elastic", "density": RHO, "youngs_modulus": E,
-                                   "poisson_ratio": NU}},
-            "bodies": [{"material": "soil", "geometry": {"type": "box", "min": [0.0, 0.0], "max": [W, H]},
-                        "particles_per_cell": 2}],
-            "boundaries": [{"type": "wall", "side": "y-", "condition": "slip"},
-                           {"type": "wall", "side": "x-", "condition": "slip"},
-                           {"type": "wall", "side": "x+", "condition": "slip"},
-                           {"type": "surface_load", "name": "footing",
-                            "region": {"min": [0.0, H - h / 2], "max": [W, H]}, "normal": [0.0, 1.0],
-                            "pressure": Q, "ramp_time": ramp}],
-            "damping": [{"model": "local", "alpha": alpha}],
-            "outputs": []}
+def column_case(h: float, ramp: float | None = None) -> dict:
+    """cases/loaded_column.json at cell size h, without output writers (``ramp``: another ramp time)."""
+    case = copy.deepcopy(_RAW)
+    case["grid"]["cell_size"] = h
+    case["outputs"] = []
+    if ramp is not None:
+        case["boundaries"][3]["ramp_time"] = ramp
+    return case
 
 
 def run_column(h: float) -> dict:
