@@ -183,23 +183,25 @@ class SurfaceLoad(GridStage):
         p = self.params
         self.state, self.grid = st, scene.grid
         self.dim = d = st.p_x.shape[1]
-        self.lo = np.asarray(p.region.min, float)
-        self.hi = np.asarray(p.region.max, float)
+        lo, hi = np.asarray(p.region.min, float), np.asarray(p.region.max, float)
         n = np.asarray(p.normal, float)
         n_hat = n / np.linalg.norm(n)
-        self.loaded_ids = np.sort(st.p_id[outermost_in_box(st.p_x0, st.p_vol0, self.lo, self.hi, n_hat)])
+        self.loaded_ids = np.sort(st.p_id[outermost_in_box(st.p_x0, st.p_vol0, lo, hi, n_hat)])
         self._idx, self.count = None, -1
         self.loaded()
         if self.count == 0:
             raise CaseError([(f"{self.json_path}.region", f"surface load '{self.label}': no particle starts "
                               f"inside the box {list(p.region.min)} to {list(p.region.max)} m; make it cover "
                               f"the loaded face")])
-        self.area = projected_area(self.lo, self.hi, n_hat)
+        self.area = projected_area(lo, hi, n_hat)
         traction = -p.pressure * n_hat if p.pressure is not None else np.asarray(p.traction, float)
         self.force = self.area * traction  # at full load [N, N/m in 2D]
         self.work = 0.0  # positive part of the load's work so far [J, J/m in 2D]
         self.applied = np.zeros(d)
         self._box = None
+        self.prm = np.zeros(len(LOAD_PRM))  # the grid's origin and 1/h; the lattice's corner and size per pass
+        self.prm[ORIGIN0:ORIGIN0 + d] = scene.grid.origin
+        self.prm[LOAD_PRM.inv_h] = 1.0 / scene.grid.h
 
     def loaded(self) -> np.ndarray:
         """Indices of the loaded particles (ids ``loaded_ids``) in the current particle order. The last
@@ -234,9 +236,7 @@ class SurfaceLoad(GridStage):
         forces = np.zeros(3 * int(np.prod(n)))
         accel = self.ramp(time + dt) * self.force / self.loaded_mass
         scatter_load(st.p_x, idx, st.p_mass, accel, g.origin, 1.0 / g.h, g.kind, first, n, forces)
-        prm = np.zeros(len(LOAD_PRM))
-        prm[ORIGIN0:ORIGIN0 + d] = g.origin
-        prm[LOAD_PRM.inv_h] = 1.0 / g.h
+        prm = self.prm.copy()
         prm[LO0:LO0 + d] = first
         prm[N0:N0 + d] = n
         self._box = (first, last)
