@@ -24,6 +24,7 @@ from geompm.backend.base import Backend
 from geompm.backend.cpu_loops import update_law_block
 from geompm.backend.cpu_loops import block_loops
 from geompm.backend.cpu_stage_loops import merge_loop, node_loop, particle_loop
+from geompm.backend.twophase_cpu import SaturatedCpu
 
 #: the transfer kernels of each dimension
 TRANSFERS = {2: (p2g_2d, g2p_2d), 3: (p2g_3d, g2p_3d)}
@@ -49,12 +50,15 @@ class CpuBackend(Backend):
         self._every_node = (np.full(scene.dim, -FAR_NODE, np.int64), np.full(scene.dim, FAR_NODE, np.int64))
         #: per stage: its loops and its accumulator and scratch rows, made once
         self._plans = {id(s): self._plan(s) for s in scene.stages}
+        #: the saturated soil's passes (backend/twophase_cpu.py), None for a dry scene
+        self.saturated = SaturatedCpu(self) if scene.pore_water is not None else None
 
     def host_state(self):
         return self.state
 
     def nbytes(self) -> int:
-        return self.state.nbytes() + self.buffers.nbytes()
+        wet = 0 if self.saturated is None else self.saturated.nbytes()
+        return self.state.nbytes() + self.buffers.nbytes() + wet
 
     def window(self):
         return self.buffers.window(self.state.p_x)

@@ -73,6 +73,13 @@ class HalfSpace(GridStage, ParticleStage):
     def setup(self, scene):
         self.grid = scene.grid
 
+    def water_boundary(self):
+        """The half-space as a boundary of saturated soil (contract/stages.py): its nodes are those the
+        contact rule reaches; ``drainage`` from the parameters."""
+        drained = self.params.drainage == "drained"
+        return (np.asarray(self.point, float), np.asarray(self.normal, float), float(self.prm[HALFSPACE.layer]),
+                drained)
+
     def solid_depth(self, pts):
         """Depth behind the surface, -(x - point) . n (n points into the material)."""
         return -(np.asarray(pts) - np.asarray(self.point)) @ np.asarray(self.normal)

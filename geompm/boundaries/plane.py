@@ -33,6 +33,9 @@ class PlaneParams(Params):
     normal: list[float] = Field(description="Normal pointing from the plane into the material (any length)")
     condition: Literal["slip", "fixed", "friction"] = Field("slip", description="Contact condition")
     friction: float = Field(0.0, ge=0.0, description="Coulomb coefficient mu [-] (condition 'friction')")
+    drainage: Literal["impermeable", "drained"] = Field(
+        "impermeable", description="For saturated soil (materials' pore_water): 'impermeable' (no water flows "
+        "across) or 'drained' (water leaves freely, p = 0 at the boundary; docs/pore-water.md)")
     contact_layer: float = Field(
         0.0, ge=0.0, description="Nodes with signed distance <= this [m] are in contact (0: on or behind)")
 

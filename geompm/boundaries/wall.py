@@ -28,6 +28,9 @@ class WallParams(Params):
     side: Literal["x-", "x+", "y-", "y+", "z-", "z+"] = Field(description="Face of the grid")
     condition: Literal["slip", "fixed", "friction"] = Field("slip", description="Contact condition")
     friction: float = Field(0.0, ge=0.0, description="Coulomb coefficient mu [-] (condition 'friction')")
+    drainage: Literal["impermeable", "drained"] = Field(
+        "impermeable", description="For saturated soil (materials' pore_water): 'impermeable' (no water flows "
+        "across) or 'drained' (water leaves freely, p = 0 at the boundary; docs/pore-water.md)")
 
 
 class Wall(HalfSpace):

@@ -108,6 +108,13 @@ class Stage(Plugin):
         (setup/assemble.py)."""
         return None
 
+    def water_boundary(self):
+        """For a stage that bounds saturated soil as a rigid half-space: (point [m] (d,), unit normal into the
+        material (d,), layer [m]: nodes within it are the boundary's, drained: bool); None for every other
+        stage. Drained: water flows freely across and the particles at it have p = 0; impermeable: no
+        relative flow across it (docs/pore-water.md)."""
+        return None
+
     def surface_shift(self, time: float):
         """Displacement [m] of the surface at ``time`` (a prescribed velocity), or None if it does not move."""
         return None

@@ -25,7 +25,7 @@ import numpy as np
 
 from geompm.backend import make_backend
 from geompm.kernels.reduce import kinetic_energy, max_coordinate, max_coordinate_by_group
-from geompm.contract.stages import GridStage, ParticleStage
+from geompm.contract.stages import BOUNDARY, GridStage, ParticleStage
 
 
 class Simulation:
@@ -35,9 +35,12 @@ class Simulation:
         self.grid_stages = [s for s in stages if isinstance(s, GridStage)]
         self.particle_stages = [s for s in stages if isinstance(s, ParticleStage)]
         # the nodal force and pre-update velocity are kept apart only when something reads them
-        split_force = scene.transfer == "flip" or any(s.needs_split_force for s in self.grid_stages)
+        split_force = scene.transfer == "flip" or any(s.needs_split_force for s in self.grid_stages) \
+            or scene.pore_water is not None
         self.backend = make_backend(scene, split_force, nchunks)
         self.step = self._step_musl if scene.musl else self._step_usl
+        if scene.pore_water is not None:
+            self.step = self._step_saturated
         self.time = 0.0
         self.step_count = 0
         self.dt = 0.0
@@ -70,6 +73,9 @@ class Simulation:
     def _end(self, view, dt):
         for stage in self.particle_stages:
             self.backend.particle_stage(stage, dt, self.time)
+        self._end_stress(view, dt)
+
+    def _end_stress(self, view, dt):
         self.backend.update_stress(dt)
         self.view = view
         self.dt = dt
@@ -91,6 +97,32 @@ class Simulation:
             be.grid_stage(stage, view, dt, self.time, True)
         be.g2p(view, dt, set_velocity=False, move=True, gradient=True)
         self._end(view, dt)
+
+    def _step_saturated(self, dt: float) -> None:
+        """USL with pore water (backend/twophase_cpu.py): the grid holds the mixture while the stages act;
+        the solid and the water then take their own velocities."""
+        every = self.scene.sort_interval
+        if every and self.step_count % every == 0:
+            self.backend.sort_particles()
+        be, wet = self.backend, self.backend.saturated
+        view = be.window()
+        wet.p2g(view)
+        be.grid_update(view, dt)
+        for stage in self.grid_stages:
+            if stage.phase >= BOUNDARY:
+                break
+            be.grid_stage(stage, view, dt, self.time, False)
+        wet.snapshot(view, dt)
+        for stage in self.grid_stages:
+            if stage.phase >= BOUNDARY:
+                be.grid_stage(stage, view, dt, self.time, False)
+        wet.split(view)
+        wet.water_g2p(view)
+        be.g2p(view, dt, set_velocity=True, move=True, gradient=True)
+        for stage in self.particle_stages:
+            be.particle_stage(stage, dt, self.time)
+        wet.pressure(dt)
+        self._end_stress(view, dt)
 
     def group_fronts(self) -> dict[str, float]:
         """``front_x_body<b>`` of each body and ``front_x_<material>`` of each material [m] (the largest x of

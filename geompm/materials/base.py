@@ -47,6 +47,8 @@ class MaterialParams(Params):
 class Material(Plugin):
     Params: ClassVar[type[MaterialParams]] = MaterialParams
     state_vars: ClassVar[tuple[str, ...]] = ()
+    #: a fluid has no grain skeleton: it cannot carry pore water (schema/pore_water.py refuses the pair)
+    fluid: ClassVar[bool] = False
     #: whether stress depends on the deformation rate (then stress can change at zero L)
     rate_dependent: ClassVar[bool] = False
 

@@ -58,6 +58,7 @@ class TaitFluid(Material):
     """Base of the weakly compressible fluid laws (params density, sound_speed, eos_exponent)."""
 
     rate_dependent = True
+    fluid = True
     particle_wave_speed = tait_wave_speed
 
     @staticmethod

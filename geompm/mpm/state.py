@@ -12,6 +12,14 @@ n particles, d dimensions; shapes as below, SI units:
     p_id (n,) int64 stable particle id: its index in the assembled scene, carried
         through every re-ordering (spatial sort, deletion) and written with every output
 
+Saturated soil (docs/pore-water.md) adds, and only then (None otherwise):
+
+    p_vw (n, d) water velocity [m/s]       p_pore (n,) pore pressure [Pa, compression positive]
+    p_n (n,) porosity [-]                  p_sat (n,) 1 for a saturated particle, 0 for a dry one
+    p_wt (n,) height of its body's water table along the upward direction [m] (the hydrostatic reference
+        of the excess pore pressure)
+p_mass is then the solids' mass and p_stress the effective stress.
+
 Particles are sorted by material: material k owns the contiguous block
 ``blocks[k] = (start, end)``; its state variables live in ``p_state[k]``
 with shape (end - start, len(material.state_vars)).
@@ -39,6 +47,11 @@ class ParticleState:
     p_rho: np.ndarray = None
     p_L: np.ndarray = None
     p_id: np.ndarray = None
+    p_vw: np.ndarray = None
+    p_pore: np.ndarray = None
+    p_n: np.ndarray = None
+    p_sat: np.ndarray = None
+    p_wt: np.ndarray = None
     blocks: list = field(default_factory=list)
     p_state: list = field(default_factory=list)
     sort_work: np.ndarray | None = None  # (n, 3) work buffer of sort_by_cell, made at the first sort

@@ -114,11 +114,43 @@ class SolverSpec(Strict):
         return v
 
 
+class PoreFluidSpec(Strict):
+    """The water filling a saturated soil's pores (docs/pore-water.md)."""
+
+    density: float = Field(1000.0, gt=0, description="Water density rho_w [kg/m3]")
+    bulk_modulus: float = Field(2.2e9, gt=0, description="Water bulk modulus K_w [Pa] (2.2e9 for water; a "
+                                "smaller value shortens the run: `geompm validate` reports its effect on c_v)")
+    viscosity: float = Field(1.0e-3, gt=0, description="Dynamic viscosity mu_w [Pa s] (1e-3 for water at 20 C)")
+
+
+class PoreWaterSpec(Strict):
+    """A soil saturated with water: two phases on each particle, the law updating the effective stress
+    (docs/pore-water.md)."""
+
+    porosity: float = Field(gt=0, lt=1, description="Initial porosity n0 [-], in (0, 1)")
+    hydraulic_conductivity: float | None = Field(
+        None, gt=0, description="Darcy's hydraulic conductivity k [m/s] of the water in the soil at n0 "
+        "(give this or intrinsic_permeability)")
+    intrinsic_permeability: float | None = Field(
+        None, gt=0, description="Intrinsic permeability kappa [m2] at n0 (k = kappa rho_w g / mu_w; give this or "
+        "hydraulic_conductivity)")
+    permeability_update: Literal["constant", "kozeny_carman"] = Field(
+        "constant", description="'kozeny_carman': kappa(n) = kappa0 n^3 (1 - n0)^2 / (n0^3 (1 - n)^2) as the "
+        "skeleton's porosity changes; 'constant': kappa0 throughout")
+    max_porosity: float = Field(
+        0.9, gt=0, lt=1, description="Where the skeleton opens beyond this porosity [-] its grains have "
+        "separated: no pore pressure (drained) and no drag there (docs/pore-water.md)")
+    fluid: PoreFluidSpec = Field(default_factory=PoreFluidSpec, description="The pore water")
+
+
 class MaterialSpec(BaseModel):
     """``{"model": <plugin name>, ...the plugin's parameters}``."""
 
     model_config = ConfigDict(extra="allow", allow_inf_nan=False)
     model: str = Field(description="Name of a plugin in the geompm.materials entry-point group")
+    pore_water: PoreWaterSpec | None = Field(
+        None, description="Saturate the material with water (two-phase MPM, docs/pore-water.md): 'density' "
+        "is then the solid grains' density rho_s, the law updates the effective stress")
 
 
 class PluginSpec(BaseModel):
@@ -208,6 +240,16 @@ class VelocityProfile(Strict):
     start: float = Field(0.0, description="x0 [m]: where the sine is zero")
 
 
+class PorePressureSpec(Strict):
+    """The initial pore pressure of a body of saturated material: hydrostatic below the water table,
+    plus a uniform excess."""
+
+    water_table: float | None = Field(
+        None, description="Height of the water table along the upward direction (against gravity) [m]; the "
+        "particles above it start dry. Default: the body's top (fully saturated)")
+    excess: float = Field(0.0, description="Uniform excess pore pressure at t = 0 [Pa], compression positive")
+
+
 class BodySpec(Strict):
     material: str = Field(description="Key of an entry in 'materials'")
     geometry: Geometry
@@ -217,6 +259,13 @@ class BodySpec(Strict):
     initial_stress: Literal["none", "geostatic"] = Field(
         "none", description="'geostatic': sigma_v = rho g depth, sigma_h = K0 sigma_v (K0 from the material)"
     )
+    stress_offset: list[float] | None = Field(
+        None, min_length=6, max_length=6, description="A uniform stress added to the initial one (geostatic or "
+        "none) [Pa], Voigt order [xx, yy, zz, xy, yz, xz], tension positive; effective stress in a saturated "
+        "body (e.g. the undrained state under a load applied at t = 0)")
+    pore_pressure: PorePressureSpec | None = Field(
+        None, description="Initial pore pressure of a body whose material has 'pore_water' (default: "
+                          "hydrostatic below the body's top)")
     surface_normal: Vector | None = Field(
         None, description="'geostatic' on a slope: unit normal of the ground surface, out of the ground; the "
                           "stress is that of an infinite slope in equilibrium (bed-parallel shear included). "

@@ -25,6 +25,7 @@ from geompm.files.atomic import case_relative, unreadable_file
 from geompm.mpm.memory import available_memory, grid_bytes, particle_bytes, window_nodes
 from geompm.schema.case import Case, DampingSpec, MaterialSpec, OutputSpec, PluginSpec
 from geompm.schema.errors import format_validation_error
+from geompm.schema.pore_water import pore_water_problems
 from geompm.schema.raw_checks import TOO_DEEP, merge, raw_problems
 
 
@@ -369,6 +370,7 @@ def _parse_valid_numbers(raw: dict, base_dir: Path) -> LoadedCase:
     loaded = LoadedCase(case=case, base_dir=base_dir, raw=raw, warnings=ineffective_settings(raw, case))
     _plugin_pass(raw, case, loaded, problems)
     problems.extend(duplicate_labels(loaded))
+    problems.extend(pore_water_problems(case, loaded))
     loaded.warnings.extend(plausibility_warnings(loaded))
     if not problems:
         _check_memory(case, problems)

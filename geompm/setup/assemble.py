@@ -15,8 +15,10 @@ from geompm.mpm.grid import GridSpec
 from geompm.mpm.state import ParticleState
 from geompm.errors import CaseError
 from geompm.setup.bodies import overlap_problems, seed_body
+from geompm.setup.pore_water import body_water, buoyant_mass, material_table, skeleton_params
 from geompm.kernels.overburden import column_overburden
 from geompm.kernels.shape import APIC_D_FACTOR, KIND
+from geompm.kernels.twophase import N0
 from geompm.schema.case import RunSpec
 from geompm.schema.load import LoadedCase
 
@@ -53,6 +55,7 @@ class Scene:
     writers: list = field(default_factory=list)
     body_materials: list = field(default_factory=list)  # the material name of each body, in case order
     crs: str | None = None  # the case's coordinate reference system ("EPSG:2056"), if it states one
+    pore_water: object = None  # setup/pore_water.PoreWater where a material is saturated, else None
     case_text: str = ""  # the case as JSON, for provenance only (the HDF5 file's attribute); never parsed
 
     @property
@@ -144,8 +147,10 @@ def assemble(loaded: LoadedCase) -> Scene:
     gravity = np.asarray(case.gravity, dtype=float)
 
     names = list(loaded.materials)
-    materials = [loaded.materials[k].cls(loaded.materials[k].params) for k in names]
+    materials = [loaded.materials[k].cls(skeleton_params(case, k, loaded.materials[k].params)) for k in names]
     xs, vs, ms, vols, mids, bids, k0s, geo, normals, tests = [], [], [], [], [], [], [], [], [], []
+    pw = material_table(case, names)
+    waters = []  # per body: (saturated flag, water table, pore pressure) or None
     for b, body in enumerate(case.bodies):
         mid = names.index(body.material)
         mat = materials[mid]
@@ -158,6 +163,7 @@ def assemble(loaded: LoadedCase) -> Scene:
         vs.append(_body_velocity(body, pts, dim))
         vols.append(np.full(len(pts), vol))
         ms.append(np.full(len(pts), vol * mat.density))
+        waters.append(None if pw is None else body_water(body, pw, mid, pts, vol, h, ppc))
         mids.append(np.full(len(pts), mid, dtype=np.int32))
         bids.append(np.full(len(pts), b, dtype=np.int32))
         geostatic = body.initial_stress == "geostatic"
@@ -170,12 +176,18 @@ def assemble(loaded: LoadedCase) -> Scene:
     p_x, p_mass, p_vol = np.concatenate(xs), np.concatenate(ms), np.concatenate(vols)
     # overburden from every body; stress only where the body asks for it, in its own surface frame
     k0_all, body_of = np.concatenate(k0s), np.concatenate(bids)
+    p_material = np.concatenate(mids)
+    water = None if pw is None else [np.concatenate([np.zeros(len(x)) if w is None else w[k]
+                                                     for x, w in zip(xs, waters)]) for k in range(3)]
+    weight = p_mass if pw is None else buoyant_mass(p_mass, p_vol, p_material, water[0], pw)
     stress = np.zeros((len(p_x), 6))
     for normal in dict.fromkeys(normals):
         mine = np.isin(body_of, [b for b, nb in enumerate(normals) if nb == normal]) & np.concatenate(geo)
         if mine.any():
-            stress[mine] = geostatic_stress(p_x, p_mass, p_vol, k0_all, gravity, h, normal)[mine]
-    p_material = np.concatenate(mids)
+            stress[mine] = geostatic_stress(p_x, weight, p_vol, k0_all, gravity, h, normal)[mine]
+    for b, body in enumerate(case.bodies):
+        if body.stress_offset is not None:
+            stress[body_of == b] += np.asarray(body.stress_offset, float)
     order = np.argsort(p_material, kind="stable")
     state = ParticleState(
         p_x=np.ascontiguousarray(p_x[order]),
@@ -186,6 +198,10 @@ def assemble(loaded: LoadedCase) -> Scene:
         p_body=np.concatenate(bids)[order],
         p_stress=np.ascontiguousarray(stress[order]),
     )
+    if pw is not None:
+        state.p_sat, state.p_wt, state.p_pore = (np.ascontiguousarray(a[order]) for a in water)
+        state.p_vw = state.p_v.copy()
+        state.p_n = pw.table[state.p_material, N0].copy()
     counts = np.bincount(state.p_material, minlength=len(materials))
     starts = np.r_[0, np.cumsum(counts)]
     state.blocks = [(int(starts[k]), int(starts[k + 1])) for k in range(len(materials))]
@@ -205,7 +221,7 @@ def assemble(loaded: LoadedCase) -> Scene:
         apic_dinv=(1.0 / (APIC_D_FACTOR[kind] * h * h)) if APIC_D_FACTOR[kind] > 0 else 0.0,
         nu_max=max((m.kinematic_viscosity() for m in materials), default=0.0),
         case_text=json.dumps(loaded.raw), crs=case.crs, body_materials=[b.material for b in case.bodies],
-        base_dir=loaded.base_dir,
+        base_dir=loaded.base_dir, pore_water=pw,
     )
     for r, spec in zip(loaded.outputs, loaded.case.outputs):  # first: a stage asks what they need (face forces)
         scene.writers.append(r.cls(r.params, spec.interval))
@@ -215,7 +231,18 @@ def assemble(loaded: LoadedCase) -> Scene:
             stage.setup(scene)
             getattr(scene, attr).append(stage)
     _check_bodies_clear(scene)
+    if pw is not None:
+        pw.walls = np.array([_wall_row(s.water_boundary()) for s in scene.stages if s.water_boundary() is not None]
+                            ).reshape(-1, 8)
     return scene
+
+
+def _wall_row(wall) -> list[float]:
+    """A water boundary (Stage.water_boundary) as a row of kernels/twophase.node_split's ``walls``."""
+    point, normal, layer, drained = wall
+    p3, n3 = np.zeros(3), np.zeros(3)
+    p3[:len(point)], n3[:len(normal)] = point, normal
+    return [*p3, *n3, layer, 1.0 if drained else 0.0]
 
 
 #: a particle deeper than this fraction of its spacing inside a rigid solid starts inside it (those on the

@@ -50,6 +50,26 @@ def add_text_field(path, name: str, text: str) -> None:
     path.write_text(xml.replace(head, head + block, 1), encoding="latin-1")
 
 
+def saturated_fields(sim) -> dict[str, np.ndarray]:
+    """The pore water's fields: pore pressure p and its excess over the hydrostatic p_h = rho_w |g| (z_wt - z)
+    [Pa, compression positive], porosity, water velocity, and the effective stress with its invariants;
+    the particle "stress" becomes the total stress sigma' - p I."""
+    st, pw = sim.state, sim.scene.pore_water
+    rho_w = pw.table[st.p_material, 0]
+    height = st.p_x @ pw.up if pw.up is not None else np.zeros(st.n)
+    hydro = st.p_sat * rho_w * pw.g * np.maximum(st.p_wt - height, 0.0)
+    s = st.p_stress
+    mean = -(s[:, 0] + s[:, 1] + s[:, 2]) / 3.0
+    dev = s[:, :3] + mean[:, None]
+    total = s.copy()
+    total[:, :3] -= st.p_pore[:, None]
+    return {"stress": total, "mean_stress_p": mean + st.p_pore, "effective_stress": s.copy(),
+            "effective_mean_stress_p": mean,
+            "effective_von_mises_q": np.sqrt(1.5 * (dev ** 2).sum(axis=1) + 3.0 * (s[:, 3:] ** 2).sum(axis=1)),
+            "pore_pressure": st.p_pore.copy(), "excess_pore_pressure": st.p_pore - hydro,
+            "porosity": st.p_n.copy(), "water_velocity": _pad3(st.p_vw)}
+
+
 def particle_fields(sim) -> dict[str, np.ndarray]:
     st, sc = sim.state, sim.scene
     s = st.p_stress
@@ -70,6 +90,8 @@ def particle_fields(sim) -> dict[str, np.ndarray]:
         "volume": st.p_vol.copy(),
         "density": st.p_rho.copy(),
     }
+    if st.p_pore is not None:  # saturated soil (docs/pore-water.md): "stress" is the total stress
+        fields.update(saturated_fields(sim))
     for mat, (a, b), sv in zip(sc.materials, st.blocks, st.p_state):
         for k, var in enumerate(mat.state_vars):
             arr = fields.setdefault(var, np.zeros(st.n))

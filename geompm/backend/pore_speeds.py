@@ -1,0 +1,61 @@
+"""The wave speeds of saturated soil, for the stable step (backend/timestep.py; docs/pore-water.md).
+
+An explicit step of the two-phase equations is bounded by the fastest of three waves:
+
+    undrained   c_u = sqrt((M + K_w / n) / rho_sat)   solids and water moving together (Biot's fast wave
+                                                       in the no-flow limit); M = K + 4G/3 of the skeleton
+    water       c_w = sqrt(K_w / rho_w)                the water alone through the pores
+    skeleton    c_s = the law's speed at the dry density  (the skeleton alone, where the water has drained)
+
+M comes from the law's own speed: M = c_s^2 rho_d (rho_d = the solids' mass per volume, the particle
+density the law sees).  Each is bounded over a material's particles by its extremes (the smallest n and
+saturated density, the largest dry density), as the dry step bounds a law's speed by the block's densities.
+The drag, taken implicitly on the nodes (kernels/twophase.node_relative), sets no bound.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from geompm.backend.cpu_loops import law_wave_speed
+from geompm.kernels import twophase as tp
+
+
+def saturated_speeds(scene, state) -> dict[str, float]:
+    """{'undrained', 'water', 'skeleton', 'flow'} [m/s]: the three wave speeds of the module docstring,
+    largest over the particles, and the largest speed of either phase."""
+    pw = scene.pore_water
+    out = {"undrained": 0.0, "water": 0.0, "skeleton": 0.0, "flow": 0.0}
+    if state.n == 0:
+        return out
+    bounds = np.zeros((len(scene.materials), 4))
+    tp.speed_bounds(state.p_v, state.p_vw, state.p_n, state.p_rho, state.p_sat, state.p_material, pw.table,
+                    bounds)
+    for k, (mat, (s, e)) in enumerate(zip(scene.materials, state.blocks)):
+        if e <= s:
+            continue
+        c = law_wave_speed(mat, state.p_rho[s:e])
+        out["skeleton"] = max(out["skeleton"], c)
+        out["flow"] = max(out["flow"], float(bounds[k, 3]))
+        if not pw.wet[k] or bounds[k, 0] >= 1.0:
+            continue
+        row = pw.table[k]
+        n_min, rho_d, rho_sat = bounds[k, :3]
+        out["undrained"] = max(out["undrained"], math.sqrt((c * c * rho_d + row[tp.K_W] / n_min) / rho_sat))
+        out["water"] = max(out["water"], math.sqrt(row[tp.K_W] / row[tp.RHO_W]))
+    return out
+
+
+def drag_limit(scene, state) -> float:
+    """The step an explicit drag would need, 2 m_w / c = 2 rho_w kappa(n) / (n mu_w) [s], at the particle
+    where it is smallest (reported by `geompm validate`; the drag is implicit, so it does not bind)."""
+    pw = scene.pore_water
+    wet = state.p_sat > 0
+    if not wet.any():
+        return float("inf")
+    rows = pw.table[state.p_material[wet]]
+    n = state.p_n[wet].astype(float)
+    kappa = np.array([tp.permeability(r, x) for r, x in zip(rows, n)])
+    return float(np.min(2.0 * rows[:, tp.RHO_W] * kappa / (n * rows[:, tp.MU_W])))

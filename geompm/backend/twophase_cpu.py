@@ -1,0 +1,103 @@
+"""The CPU backend's passes for saturated soil (kernels/twophase.py; docs/pore-water.md).
+
+A scene with pore water runs the CPU backend's own P2G (the solids, from the total stress), grid update,
+stages and G2P (the solids) with these passes around them (engine/scheduler.py, ``_step_saturated``):
+
+    prepare -> solid P2G -> water P2G -> node_relative -> grid update (mixture) -> stages before
+    BOUNDARY -> snapshot -> BOUNDARY and OBSTACLE stages -> node_split -> water G2P -> solid G2P
+    -> particle stages -> pressure_update -> effective-stress update (the laws, unchanged)
+
+A scene without pore water never makes this object: its step is the dry one, unchanged.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from geompm.kernels import twophase as tp
+
+
+class SaturatedCpu:
+    def __init__(self, cpu):
+        self.cpu = cpu
+        self.scene = cpu.scene
+        self.pw = self.scene.pore_water
+        d = self.scene.dim
+        self.width = 2 * d + 3
+        self.nchunks = cpu.buffers.nchunks
+        self.cap = 0
+        self.n = -1
+        self._grid(1024)
+
+    def _grid(self, cap):
+        d = self.scene.dim
+        self.cap = cap
+        self.c_w = np.zeros((self.nchunks, cap, self.width))
+        self.g_w = np.zeros((cap, self.width))
+        self.g_rel = np.zeros((cap, d))
+        self.g_vw = np.zeros((cap, d))
+        self.g_vpre = np.zeros((cap, d))
+        self.g_fill = np.zeros(cap)
+
+    def _particles(self):
+        n = self.cpu.state.n
+        if n != self.n:
+            self.n = n
+            self.p_total = np.zeros((n, 6))
+            self.p_wmass = np.zeros(n)
+            self.p_drag = np.zeros(n)
+            self.p_divw = np.zeros(n)
+            self.p_fill = np.ones(n)
+
+    def nbytes(self) -> int:
+        return sum(a.nbytes for a in (self.c_w, self.g_w, self.g_rel, self.g_vw, self.g_vpre, self.g_fill)) + (
+            0 if self.n < 0 else sum(a.nbytes for a in (self.p_total, self.p_wmass, self.p_drag, self.p_divw,
+                                                         self.p_fill)))
+
+    def _nodes(self, view) -> int:
+        nn = view.g_mass.shape[0]
+        if nn > self.cap:
+            self._grid(int(nn * 1.25) + 64)
+        return nn
+
+    def p2g(self, view) -> None:
+        """Both phases onto the grid; leaves the mixture on the view (mass, momentum, internal force), the
+        relative velocity w in g_rel and the nodes' fill."""
+        cpu, st, g, pw = self.cpu, self.cpu.state, self.scene.grid, self.pw
+        self._particles()
+        nn = self._nodes(view)
+        tp.prepare(st.p_stress, st.p_pore, st.p_n, st.p_sat, st.p_vol, st.p_material, pw.table, self.p_total,
+                   self.p_wmass, self.p_drag)
+        cpu.p2g_kernel(cpu.tag, cpu.scheme, st.p_x, st.p_v, st.p_C, st.p_mass, st.p_vol, self.p_total, g.origin,
+                       g.h, g.kind, view.lo, view.nloc, cpu.buffers.c_grid, True, 1.0, self.scene.apic_dinv,
+                       view.g_mass, view.g_mom, view.g_force)
+        tp.water_p2g(cpu.tag, st.p_x, st.p_vw, self.p_wmass, self.p_drag, st.p_vol, st.p_n, st.p_pore, st.p_sat,
+                     st.p_material, pw.table, g.origin, g.h, g.kind, view.lo, view.nloc, self.c_w[:, :nn],
+                     self.g_w[:nn])
+        tp.node_fill(self.g_w[:nn], pw.walls, g.origin, g.h, view.lo, view.nloc, g.h ** self.scene.dim,
+                     self.g_fill[:nn])
+        tp.node_mixture(view.g_mass, view.g_mom, self.g_w[:nn], cpu.mass_eps, self.g_rel[:nn])
+
+    def snapshot(self, view, dt: float) -> None:
+        """Once gravity, the loads and the damping have acted on the mixture: the relative velocity after
+        the step, and the mixture's velocities before the boundaries and obstacles act (node_split finds
+        what they changed)."""
+        nn = view.g_vel.shape[0]
+        tp.node_relative(view.g_mass, view.g_vel, view.g_vel_old, self.g_w[:nn], self.scene.gravity, dt,
+                         self.cpu.mass_eps, self.g_rel[:nn])
+        self.g_vpre[:nn] = view.g_vel
+
+    def split(self, view) -> None:
+        g, nn = self.scene.grid, view.g_vel.shape[0]
+        tp.node_split(view.g_mass, view.g_vel, self.g_vpre[:nn], self.g_w[:nn], self.g_rel[:nn], self.pw.walls,
+                      g.origin, g.h, view.lo, view.nloc, self.cpu.mass_eps, self.g_vw[:nn])
+
+    def water_g2p(self, view) -> None:
+        st, g, nn = self.cpu.state, self.scene.grid, view.g_vel.shape[0]
+        tp.water_g2p(self.cpu.tag, st.p_x, st.p_vw, self.p_divw, self.p_fill, self.g_vw[:nn], self.g_fill[:nn],
+                     g.origin, g.h, g.kind, view.lo, view.nloc)
+
+    def pressure(self, dt: float) -> None:
+        st = self.cpu.state
+        tp.pressure_update(st.p_pore, st.p_n, st.p_sat, st.p_L, self.p_divw, self.p_fill, st.p_vol, st.p_vol0,
+                           st.p_material, self.pw.table, dt)

@@ -1,0 +1,382 @@
+"""The kernels of saturated soil: one point, two velocities (solid and water), explicit in time.
+
+Each particle carries solids and the water in its pores (docs/pore-water.md for the derivation and the
+references: Zienkiewicz et al. 1980; Bandara & Soga 2015, Computers and Geotechnics 63:199). Per particle
+(V volume, n porosity, s 1 saturated / 0 dry, p pore pressure, compression positive):
+
+    water mass    m_w = s n rho_w V
+    drag          D V = s n^2 (mu_w / kappa(n)) V      [kg/s]  (Darcy: n (v_w - v_s) = -(kappa/mu_w) grad p ...)
+    total stress  sigma = sigma' - p I                 (the law updates sigma', unchanged)
+
+On the nodes I, from the particles' shape functions N and gradients grad N:
+
+    mixture  (m_s + m_w) a_mix = -sum V sigma grad N + (m_s + m_w) g (+ boundary and obstacle forces)
+    water    m_w a_w = sum V s n p grad N + m_w g - c (v_w - v_s),   c = sum N D V
+
+The relative velocity w = v_w - v_s takes the drag implicitly (node_relative): the step is then free of the
+drag's explicit limit 2 m_w / c (docs/pore-water.md, The time step); gravity cancels from it. After the
+stages have acted on the mixture, node_split gives the solid and the water their velocities; the solid's
+goes through the ordinary G2P (the law sees its velocity gradient L), the water's through water_g2p, and
+the pore pressure follows the water's mass balance (pressure_update):
+
+    dp = -dt K_w / n [(1 - n) tr L + n div v_w]
+
+with p = 0 on drained particles (at the free surface, at a drained boundary, separated or dry); the porosity
+follows the skeleton's volume, n = 1 - (1 - n0) V0 / V.
+"""
+
+import math
+
+from numba import njit, prange
+
+from geompm.kernels.shape import LINEAR, axis_stencil
+
+#: columns of a material's row in the pore-water table (setup/pore_water.py)
+RHO_W, K_W, MU_W, N0, KAPPA0, KOZENY, N_MAX = range(7)
+#: a particle whose interpolated node fill (the particles' volume fraction around the nodes, the body
+#: mirrored in impermeable walls: node_fill) is below this is at the free surface or a drained boundary:
+#: its pore pressure is 0 (docs/pore-water.md). On a flat surface it flags the particles within about half
+#: a cell of it, for 1 to 4 particles per cell and linear, quadratic and cubic shape functions
+FREE_SURFACE_FILL = 0.78
+
+
+@njit(cache=True, inline="always")
+def permeability(row, n):
+    """kappa(n) [m2]: kappa0, or Kozeny-Carman kappa0 n^3 (1 - n0)^2 / (n0^3 (1 - n)^2)."""
+    if row[KOZENY] == 0.0:
+        return row[KAPPA0]
+    n0 = row[N0]
+    return row[KAPPA0] * (n * n * n * (1.0 - n0) * (1.0 - n0)) / (n0 * n0 * n0 * (1.0 - n) * (1.0 - n))
+
+
+@njit(cache=True, inline="always")
+def wet(row, sat, n):
+    """1.0 where the particle holds water under pressure: saturated and not separated (n <= n_max)."""
+    return sat if n <= row[N_MAX] else 0.0
+
+
+@njit(parallel=True, cache=True)
+def prepare(p_stress, p_pore, p_n, p_sat, p_vol, p_material, table, p_total, p_wmass, p_drag):
+    """Per particle: the total stress sigma' - p I, the water mass and the drag coefficient D V."""
+    for p in prange(p_stress.shape[0]):
+        row = table[p_material[p]]
+        n = p_n[p]
+        s = wet(row, p_sat[p], n)
+        pp = s * p_pore[p]
+        for k in range(6):
+            p_total[p, k] = p_stress[p, k]
+        for k in range(3):
+            p_total[p, k] -= pp
+        p_wmass[p] = s * n * row[RHO_W] * p_vol[p]
+        p_drag[p] = s * n * n * row[MU_W] / permeability(row, n) * p_vol[p] if s > 0.0 else 0.0
+
+
+@njit(cache=True, inline="always")
+def node_index(b, lo, nloc, i, j, k, d):
+    if d == 2:
+        return (b[0] + i - lo[0]) * nloc[1] + (b[1] + j - lo[1])
+    return ((b[0] + i - lo[0]) * nloc[1] + (b[1] + j - lo[1])) * nloc[2] + (b[2] + k - lo[2])
+
+
+@njit(parallel=True, cache=True)
+def water_p2g(tag, p_x, p_vw, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material, table, origin, h, kind,
+              lo, nloc, c_grid, g_w):
+    """Scatter the water: g_w rows [m_w, m_w v_w (d), the water's internal force sum V s n p grad N (d), c,
+    V] (V the particles' volume, for the free-surface fill).  PIC: the water carries no affine matrix."""
+    n = p_x.shape[0]
+    d = p_x.shape[1]
+    nchunks = c_grid.shape[0]
+    width = g_w.shape[1]
+    nn = g_w.shape[0]
+    S = len(tag)
+    inv_h = 1.0 / h
+    Sz = S if d == 3 else 1
+    for c in prange(nchunks):
+        g = c_grid[c]
+        for i in range(nn):
+            for a in range(width):
+                g[i, a] = 0.0
+        for p in range(c * n // nchunks, (c + 1) * n // nchunks):
+            bx, wx, dx = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
+            by, wy, dy = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
+            zc = (p_x[p, 2] - origin[2]) * inv_h if d == 3 else 0.0
+            bz, wz, dz = axis_stencil(zc, kind if d == 3 else LINEAR, inv_h)  # 2D: one node of weight 1
+            b = (bx, by, bz)
+            row = table[p_material[p]]
+            m = p_wmass[p]
+            npv = wet(row, p_sat[p], p_n[p]) * p_n[p] * p_pore[p] * p_vol[p]
+            for i in range(S):
+                for j in range(S):
+                    for k in range(Sz):
+                        wt = wx[i] * wy[j] * wz[k]
+                        idx = node_index(b, lo, nloc, i, j, k, d)
+                        r = g[idx]
+                        r[0] += wt * m
+                        r[1] += wt * m * p_vw[p, 0]
+                        r[2] += wt * m * p_vw[p, 1]
+                        r[1 + d] += npv * dx[i] * wy[j] * wz[k]
+                        r[2 + d] += npv * wx[i] * dy[j] * wz[k]
+                        if d == 3:
+                            r[3] += wt * m * p_vw[p, 2]
+                            r[6] += npv * wx[i] * wy[j] * dz[k]
+                        r[1 + 2 * d] += wt * p_drag[p]
+                        r[2 + 2 * d] += wt * p_vol[p]
+    for i in prange(nn):
+        for a in range(width):
+            t = 0.0
+            for c in range(nchunks):
+                t += c_grid[c, i, a]
+            g_w[i, a] = t
+
+
+@njit(parallel=True, cache=True)
+def node_mixture(g_mass, g_mom, g_w, mass_eps, g_rel):
+    """The mixture on the solid's arrays and the relative velocity before the step.  In: g_mass, g_mom of
+    the solid P2G (g_force, from the total stress, is already the mixture's internal force), g_w of
+    water_p2g.  Out: g_rel <- w = v_w - v_s, g_mass <- m_s + m_w, g_mom <- m_s v_s + m_w v_w."""
+    nn, d = g_mom.shape
+    for i in prange(nn):
+        ms = g_mass[i]
+        mw = g_w[i, 0]
+        for a in range(d):
+            g_rel[i, a] = g_w[i, 1 + a] / mw - g_mom[i, a] / ms if ms > mass_eps and mw > mass_eps else 0.0
+            g_mom[i, a] += g_w[i, 1 + a]
+        g_mass[i] = ms + mw
+
+
+@njit(parallel=True, cache=True)
+def node_relative(g_mass, g_vel, g_vel_old, g_w, gravity, dt, mass_eps, g_rel):
+    """The relative velocity after the step, w' = v_w' - v_s', drag implicit, from the mixture's
+    acceleration a = (v' - v) / dt once gravity, the loads and the damping have acted on it (g_vel,
+    g_vel_old) and the water's own force (m_w a_w = F_w + m_w g - c w'):
+
+        w' (m_s m_w + dt c M) = m_s m_w w + dt M (F_w + m_w (g - a)),   M = m_s + m_w
+    """
+    nn, d = g_vel.shape
+    for i in prange(nn):
+        big = g_mass[i]
+        mw = g_w[i, 0]
+        ms = big - mw
+        if ms > mass_eps and mw > mass_eps:
+            den = ms * mw + dt * g_w[i, 1 + 2 * d] * big
+            for a in range(d):
+                acc = (g_vel[i, a] - g_vel_old[i, a]) / dt
+                rhs = ms * mw * g_rel[i, a] + dt * big * (g_w[i, 1 + d + a] + mw * (gravity[a] - acc))
+                g_rel[i, a] = rhs / den
+        else:
+            for a in range(d):
+                g_rel[i, a] = 0.0
+
+
+@njit(cache=True)
+def node_of(i, lo, nloc, d):
+    """Global (ix, iy, iz) of window node i."""
+    if d == 2:
+        return i // nloc[1] + lo[0], i % nloc[1] + lo[1], 0
+    return i // (nloc[1] * nloc[2]) + lo[0], (i // nloc[2]) % nloc[1] + lo[1], i % nloc[2] + lo[2]
+
+
+@njit(cache=True)
+def mirrored(x0, x1, x2, walls, k):
+    """(x0, x1, x2) reflected in wall k's plane, and the signed distance from the plane."""
+    dist = (x0 - walls[k, 0]) * walls[k, 3] + (x1 - walls[k, 1]) * walls[k, 4] + (x2 - walls[k, 2]) * walls[k, 5]
+    return x0 - 2.0 * dist * walls[k, 3], x1 - 2.0 * dist * walls[k, 4], x2 - 2.0 * dist * walls[k, 5], dist
+
+
+@njit(cache=True)
+def raw_fill_at(x0, x1, x2, g_w, origin, h, lo, nloc, d, cell_volume):
+    """The particles' volume fraction at the window node nearest x (0 outside the window)."""
+    ix = int(round((x0 - origin[0]) / h)) - lo[0]
+    iy = int(round((x1 - origin[1]) / h)) - lo[1]
+    iz = 0
+    if d == 3:
+        iz = int(round((x2 - origin[2]) / h)) - lo[2]
+        if iz < 0 or iz >= nloc[2]:
+            return 0.0
+    if ix < 0 or iy < 0 or ix >= nloc[0] or iy >= nloc[1]:
+        return 0.0
+    idx = ix * nloc[1] + iy
+    if d == 3:
+        idx = idx * nloc[2] + iz
+    return g_w[idx, 2 + 2 * d] / cell_volume
+
+
+@njit(cache=True)
+def one_node_fill(i, g_w, walls, origin, h, lo, nloc, d, cell_volume):
+    ix, iy, iz = node_of(i, lo, nloc, d)
+    x0 = origin[0] + ix * h
+    x1 = origin[1] + iy * h
+    x2 = origin[2] + iz * h if d == 3 else 0.0
+    f = g_w[i, 2 + 2 * d] / cell_volume
+    reach = 2.0 * h  # beyond this no node of a mirrored particle's stencil comes back
+    for k in range(walls.shape[0]):
+        if walls[k, 7] > 0.0:
+            continue
+        y0, y1, y2, dk = mirrored(x0, x1, x2, walls, k)
+        if dk >= reach:
+            continue
+        f += raw_fill_at(y0, y1, y2, g_w, origin, h, lo, nloc, d, cell_volume)
+        for j in range(k + 1, walls.shape[0]):
+            if walls[j, 7] > 0.0:
+                continue
+            z0, z1, z2, dj = mirrored(y0, y1, y2, walls, j)
+            if abs(dj) < reach:
+                f += raw_fill_at(z0, z1, z2, g_w, origin, h, lo, nloc, d, cell_volume)
+    return f
+
+
+@njit(parallel=True, cache=True)
+def node_fill(g_w, walls, origin, h, lo, nloc, cell_volume, g_fill):
+    """The nodes' fill: the particles' volume fraction, with the body mirrored in every impermeable wall
+    (and in each pair of them, for corners), so that a wall is not taken for a free surface while the
+    body's real free surface still is (docs/pore-water.md, Free surface)."""
+    d = len(lo)
+    for i in prange(g_fill.shape[0]):
+        g_fill[i] = one_node_fill(i, g_w, walls, origin, h, lo, nloc, d, cell_volume)
+
+
+@njit(parallel=True, cache=True)
+def node_split(g_mass, g_vel, g_vpre, g_w, g_rel, walls, origin, h, lo, nloc, mass_eps, g_vw):
+    """Solid and water velocities from the mixture's after the stages (g_vel, in place -> the solid's;
+    g_vw <- the water's).
+
+    ``walls`` rows (docs/pore-water.md): point (3), unit normal into the material (3), layer [m], drained.
+    At an impermeable wall's node the relative velocity loses its normal part (no flow across); at a
+    drained wall's node the wall's rule binds the solid and the water crosses freely; at a node that a
+    stage changed elsewhere (an obstacle) both phases take the stage's velocity.
+    """
+    nn, d = g_vel.shape
+    nw = walls.shape[0]
+    for i in prange(nn):
+        big = g_mass[i]
+        if big <= mass_eps:
+            for a in range(d):
+                g_vw[i, a] = 0.0
+            continue
+        ix, iy, iz = node_of(i, lo, nloc, d)
+        w0 = g_rel[i, 0]
+        w1 = g_rel[i, 1]
+        w2 = g_rel[i, 2] if d == 3 else 0.0
+        bound = False
+        drained = False
+        t0 = t1 = t2 = 0.0  # the part of w tangential to a drained wall
+        for k in range(nw):
+            dist = (origin[0] + ix * h - walls[k, 0]) * walls[k, 3] + (origin[1] + iy * h - walls[k, 1]) * walls[k, 4]
+            if d == 3:
+                dist += (origin[2] + iz * h - walls[k, 2]) * walls[k, 5]
+            if dist <= walls[k, 6]:
+                bound = True
+                wn = w0 * walls[k, 3] + w1 * walls[k, 4] + w2 * walls[k, 5]
+                if walls[k, 7] > 0.0:
+                    drained = True
+                    t0, t1, t2 = w0 - wn * walls[k, 3], w1 - wn * walls[k, 4], w2 - wn * walls[k, 5]
+                else:
+                    w0 -= wn * walls[k, 3]
+                    w1 -= wn * walls[k, 4]
+                    w2 -= wn * walls[k, 5]
+        changed = False
+        for a in range(d):
+            if g_vel[i, a] != g_vpre[i, a]:
+                changed = True
+        if changed and not bound:
+            w0 = w1 = w2 = 0.0
+        mw = g_w[i, 0]
+        fw = mw / big
+        fs = 1.0 - fw
+        if drained:
+            g_vel[i, 0] -= fw * t0
+            g_vel[i, 1] -= fw * t1
+            g_vw[i, 0] = g_vel[i, 0] + w0
+            g_vw[i, 1] = g_vel[i, 1] + w1
+            if d == 3:
+                g_vel[i, 2] -= fw * t2
+                g_vw[i, 2] = g_vel[i, 2] + w2
+        else:
+            g_vw[i, 0] = g_vel[i, 0] + fs * w0
+            g_vw[i, 1] = g_vel[i, 1] + fs * w1
+            g_vel[i, 0] -= fw * w0
+            g_vel[i, 1] -= fw * w1
+            if d == 3:
+                g_vw[i, 2] = g_vel[i, 2] + fs * w2
+                g_vel[i, 2] -= fw * w2
+
+
+@njit(parallel=True, cache=True)
+def water_g2p(tag, p_x, p_vw, p_divw, p_fill, g_vw, g_fill, origin, h, kind, lo, nloc):
+    """The water's particle velocity (PIC), its divergence at the particle and the node fill interpolated
+    (at the particles' positions before they move)."""
+    n = p_x.shape[0]
+    d = p_x.shape[1]
+    S = len(tag)
+    inv_h = 1.0 / h
+    Sz = S if d == 3 else 1
+    for p in prange(n):
+        bx, wx, dx = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
+        by, wy, dy = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
+        zc = (p_x[p, 2] - origin[2]) * inv_h if d == 3 else 0.0
+        bz, wz, dz = axis_stencil(zc, kind if d == 3 else LINEAR, inv_h)
+        b = (bx, by, bz)
+        v0 = v1 = v2 = div = fill = 0.0
+        for i in range(S):
+            for j in range(S):
+                for k in range(Sz):
+                    wt = wx[i] * wy[j] * wz[k]
+                    idx = node_index(b, lo, nloc, i, j, k, d)
+                    v0 += wt * g_vw[idx, 0]
+                    v1 += wt * g_vw[idx, 1]
+                    div += dx[i] * wy[j] * wz[k] * g_vw[idx, 0] + wx[i] * dy[j] * wz[k] * g_vw[idx, 1]
+                    if d == 3:
+                        v2 += wt * g_vw[idx, 2]
+                        div += wx[i] * wy[j] * dz[k] * g_vw[idx, 2]
+                    fill += wt * g_fill[idx]
+        p_vw[p, 0] = v0
+        p_vw[p, 1] = v1
+        if d == 3:
+            p_vw[p, 2] = v2
+        p_divw[p] = div
+        p_fill[p] = fill
+
+
+@njit(parallel=True, cache=True)
+def pressure_update(p_pore, p_n, p_sat, p_L, p_divw, p_fill, p_vol, p_vol0, p_material, table, dt):
+    """dp = -dt K_w / n [(1 - n) tr L + n div v_w] on wet particles inside the body; p = 0 on drained ones
+    (free surface or drained wall: fill below FREE_SURFACE_FILL; dry; separated); then n from the
+    skeleton's volume."""
+    for p in prange(p_pore.shape[0]):
+        row = table[p_material[p]]
+        n = p_n[p]
+        if wet(row, p_sat[p], n) > 0.0 and p_fill[p] >= FREE_SURFACE_FILL:
+            tr = p_L[p, 0, 0] + p_L[p, 1, 1] + p_L[p, 2, 2]
+            p_pore[p] -= dt * row[K_W] / n * ((1.0 - n) * tr + n * p_divw[p])
+        else:
+            p_pore[p] = 0.0
+        if row[N0] > 0.0:
+            p_n[p] = max(1.0 - (1.0 - row[N0]) * p_vol0[p] / p_vol[p], 1e-6)
+
+
+@njit(cache=True)
+def speed_bounds(p_v, p_vw, p_n, p_rho, p_sat, p_material, table, out):
+    """Per material k: out[k] = (min n of wet particles, max dry density, min saturated density, max |v|
+    over both phases), for the stable step."""
+    nm = out.shape[0]
+    for k in range(nm):
+        out[k, 0] = 1.0
+        out[k, 1] = 0.0
+        out[k, 2] = math.inf
+        out[k, 3] = 0.0
+    n = p_v.shape[0]
+    d = p_v.shape[1]
+    for p in range(n):
+        k = p_material[p]
+        row = table[k]
+        s = wet(row, p_sat[p], p_n[p])
+        if s > 0.0:
+            out[k, 0] = min(out[k, 0], p_n[p])
+        out[k, 1] = max(out[k, 1], p_rho[p])
+        out[k, 2] = min(out[k, 2], p_rho[p] + s * p_n[p] * row[RHO_W])
+        vs = 0.0
+        vw = 0.0
+        for a in range(d):
+            vs += p_v[p, a] * p_v[p, a]
+            vw += p_vw[p, a] * p_vw[p, a]
+        out[k, 3] = max(out[k, 3], math.sqrt(max(vs, vw)))

@@ -1,0 +1,96 @@
+"""Saturated bodies at set-up: the pore-water table of the materials, each particle's water and the
+initial pore pressure (docs/pore-water.md).
+
+A material with ``pore_water`` has ``density`` = the grains' density rho_s; the law runs with the dry
+density (1 - n0) rho_s (``skeleton_params``), its particles carry the solids' mass (1 - n0) rho_s V0 and, below their body's water table, water of mass n0 rho_w V0 under the hydrostatic
+pressure p = rho_w |g| (z_wt - z) plus the body's uniform excess.  Particles above the table start dry.
+Geostatic stress is then effective stress: the overburden is weighed with each particle's solids and water
+less the water it displaces below the table (its buoyant weight), so sigma'_v = (1 - n)(rho_s - rho_w) g
+depth in a fully saturated layer.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from geompm.kernels.twophase import K_W, KAPPA0, KOZENY, MU_W, N0, N_MAX, RHO_W
+
+#: standard gravity [m/s2], converting a hydraulic conductivity k to an intrinsic permeability
+#: kappa = k mu_w / (rho_w g0) (the conductivity is a property measured under standard gravity)
+STANDARD_GRAVITY = 9.80665
+
+
+@dataclass
+class PoreWater:
+    """What the two-phase step needs of the case, resolved."""
+
+    table: np.ndarray  # (materials, 7): the kernels' rows (kernels/twophase.py), zeros for dry materials
+    wet: list[bool]  # per material
+    walls: np.ndarray = field(default_factory=lambda: np.zeros((0, 8)))  # (stages, 8): kernels/twophase.node_split
+    up: np.ndarray | None = None  # unit vector against gravity, None without gravity
+    g: float = 0.0  # |gravity| [m/s2]
+
+    def row(self, k: int) -> np.ndarray:
+        return self.table[k]
+
+
+def material_table(case, names) -> PoreWater | None:
+    """The pore-water table of the case's materials in ``names`` order, or None if none is saturated."""
+    specs = [case.materials[k].pore_water for k in names]
+    if all(s is None for s in specs):
+        return None
+    table = np.zeros((len(names), 7))
+    for k, pw in enumerate(specs):
+        if pw is None:
+            table[k, N_MAX] = 1.0
+            continue
+        f = pw.fluid
+        kappa = pw.intrinsic_permeability
+        if kappa is None:
+            kappa = pw.hydraulic_conductivity * f.viscosity / (f.density * STANDARD_GRAVITY)
+        table[k, [RHO_W, K_W, MU_W, N0, KAPPA0, KOZENY, N_MAX]] = (
+            f.density, f.bulk_modulus, f.viscosity, pw.porosity, kappa,
+            1.0 if pw.permeability_update == "kozeny_carman" else 0.0, pw.max_porosity)
+    g = np.asarray(case.gravity, float)
+    norm = float(np.linalg.norm(g))
+    return PoreWater(table=table, wet=[s is not None for s in specs], up=None if norm == 0.0 else -g / norm,
+                     g=norm)
+
+
+def skeleton_params(case, name: str, params):
+    """The law's parameters as the engine runs them: for a saturated material ``density`` becomes the
+    skeleton's dry density (1 - n0) rho_s, the solids' mass per volume that its particles carry (the law's
+    reference density: a law that relates the current density to it, as the Kirchhoff stress does, then sees
+    the skeleton's volume change); other materials' unchanged."""
+    pw = case.materials[name].pore_water
+    if pw is None:
+        return params
+    return params.model_copy(update={"density": (1.0 - pw.porosity) * params.density})
+
+
+def body_water(body, pw: PoreWater, mid: int, pts: np.ndarray, vol: float, h: float, ppc: int):
+    """(saturated flag, water-table height [m], pore pressure [Pa]) of a body's particles; None for a
+    body of a dry material."""
+    if not pw.wet[mid]:
+        return None
+    spec = body.pore_pressure
+    n = len(pts)
+    if pw.up is None:  # no gravity: saturated throughout, the uniform excess only
+        excess = 0.0 if spec is None else spec.excess
+        return np.ones(n), np.zeros(n), np.full(n, excess)
+    height = pts @ pw.up
+    top = float(height.max()) + 0.5 * h / ppc if n else 0.0
+    table = top if spec is None or spec.water_table is None else spec.water_table
+    sat = (height <= table + 1e-9 * h).astype(float)
+    excess = 0.0 if spec is None else spec.excess
+    hydrostatic = pw.table[mid, RHO_W] * pw.g * np.maximum(table - height, 0.0)
+    return sat, np.full(n, table), sat * (excess + hydrostatic)
+
+
+def buoyant_mass(p_mass, p_vol, p_material, p_sat, pw: PoreWater) -> np.ndarray:
+    """Each particle's weight in the overburden of geostatic effective stress [kg]: its solids, plus its
+    water less the water it displaces (-(1 - n0) rho_w V0) where saturated."""
+    rho_w, n0 = pw.table[p_material, RHO_W], pw.table[p_material, N0]
+    return p_mass + p_sat * (n0 * rho_w * p_vol - rho_w * p_vol)

@@ -1,0 +1,150 @@
+"""Saturated soil columns (docs/pore-water.md): the hydrostatic column at rest, Terzaghi's consolidation
+(cases/terzaghi_consolidation.json) and the undrained (sealed) loading, each at any cell size, with their
+closed forms (tests/verification/test_pore_water.py, benchmarks/pore_water/columns.py)."""
+
+import copy
+import json
+import math
+
+import numpy as np
+
+from geompm.api import scene_from_dict
+from geompm.engine.scheduler import Simulation
+
+from .cases import CASES
+
+GAMMA_W = 1000.0 * 9.80665  # unit weight of water at standard gravity [N/m3] (setup/pore_water.py)
+TERZAGHI = json.loads((CASES / "terzaghi_consolidation.json").read_text())
+
+
+def run_to(sim, end):
+    while sim.time < end - 1e-12:
+        sim.step(min(sim.stable_dt(), end - sim.time))
+
+
+def rows(st, key="p_x0"):
+    """(row heights, index arrays) of the particles grouped by their initial height."""
+    y = np.round(getattr(st, key)[:, 1], 9)
+    levels = np.unique(y)
+    return levels, [np.flatnonzero(y == v) for v in levels]
+
+
+def hydrostatic_column(h: float, end: float = 0.2) -> dict:
+    """A 1 m saturated elastic column (n = 0.4, rho_s = 2650, k = 1e-2 m/s) on an impermeable base between
+    slip walls, geostatic and hydrostatic at t = 0, run to ``end``. Returns the largest relative errors of
+    p = rho_w g depth and sigma'_v = (1 - n)(rho_s - rho_w) g depth over the rows more than two cells from
+    the base and the surface (the quadratic B-splines' boundary rows are reported apart: docs)."""
+    n, rho_s, g = 0.4, 2650.0, 9.81
+    case = {"name": "hydrostatic", "dimension": 2,
+            "grid": {"origin": [0, 0], "extent": [0.2, 1.2], "cell_size": h, "shape_function": "linear"},
+            "time": {"end": end}, "gravity": [0, -g],
+            "materials": {"soil": {"model": "linear_elastic", "density": rho_s, "youngs_modulus": 10e6,
+                                   "poisson_ratio": 0.3,
+                                   "pore_water": {"porosity": n, "hydraulic_conductivity": 1e-2,
+                                                  "fluid": {"bulk_modulus": 2.2e8}}}},
+            "bodies": [{"material": "soil", "geometry": {"type": "box", "min": [0, 0], "max": [0.2, 1.0]},
+                        "particles_per_cell": 2, "initial_stress": "geostatic"}],
+            "damping": [{"model": "local", "alpha": 0.3}],
+            "boundaries": [{"type": "wall", "side": s, "condition": "slip"} for s in ("y-", "x-", "x+")]}
+    sim = Simulation(scene_from_dict(case))
+    st = sim.state
+    run_to(sim, end)
+    levels, idx = rows(st)
+    p_err, s_err = [], []
+    for y, i in zip(levels, idx):
+        if y < 2 * h or y > 1.0 - 2 * h:
+            continue
+        depth = 1.0 - st.p_x[i, 1].mean()
+        p_err.append(st.p_pore[i].mean() / (1000.0 * g * depth) - 1)
+        s_err.append(st.p_stress[i, 1].mean() / (-(1 - n) * (rho_s - 1000.0) * g * depth) - 1)
+    return {"h": h, "p_error": float(np.max(np.abs(p_err))), "stress_error": float(np.max(np.abs(s_err))),
+            "steps": sim.step_count}
+
+
+def terzaghi_constants(case=TERZAGHI) -> dict:
+    """q, H, M, p0 (the undrained excess, 1D: q (K_w/n) / (M + K_w/n)) and c_v (with the water's
+    compressibility, 1/c_v = gamma_w / k (1/M + n/K_w)) of a Terzaghi case."""
+    soil = case["materials"]["soil"]
+    pw = soil["pore_water"]
+    E, nu, n, k, Kw = (soil["youngs_modulus"], soil["poisson_ratio"], pw["porosity"],
+                       pw["hydraulic_conductivity"], pw["fluid"]["bulk_modulus"])
+    M = E * (1 - nu) / ((1 + nu) * (1 - 2 * nu))
+    q = case["boundaries"][-1]["pressure"]
+    H = case["bodies"][0]["geometry"]["max"][1]
+    return {"q": q, "H": H, "M": M, "p0": q * (Kw / n) / (M + Kw / n), "cv": k / (GAMMA_W * (1 / M + n / Kw)),
+            "E": E, "nu": nu, "n": n, "Kw": Kw}
+
+
+def terzaghi_case(h: float, soft: bool = False) -> dict:
+    """cases/terzaghi_consolidation.json at cell size h, without writers; ``soft``: E = 10 MPa, n = 0.4,
+    K_w = 2.2e8 Pa (the issue's second set), its undrained start recomputed."""
+    case = copy.deepcopy(TERZAGHI)
+    case["outputs"] = []
+    case["grid"]["cell_size"] = h
+    case["grid"]["extent"][0] = 2 * h
+    case["bodies"][0]["geometry"]["max"][0] = 2 * h
+    case["boundaries"][-1]["region"]["max"][0] = 2 * h
+    soil = case["materials"]["soil"]
+    if soft:
+        soil["youngs_modulus"], soil["pore_water"]["porosity"] = 10e6, 0.4
+        soil["pore_water"]["fluid"]["bulk_modulus"] = 2.2e8
+    c = terzaghi_constants(case)
+    ds = -(c["q"] - c["p0"])  # the undrained effective stress increment, oedometric
+    lat = ds * c["nu"] / (1 - c["nu"])
+    case["bodies"][0]["stress_offset"] = [lat, ds, lat, 0, 0, 0]
+    case["bodies"][0]["pore_pressure"] = {"excess": c["p0"]}
+    return case
+
+
+def terzaghi_series(z, tv, H=1.0, terms=400):
+    """p / p0 = (4/pi) sum_{m odd} (1/m) sin(m pi z / 2H) exp(-m^2 pi^2 Tv / 4), z the depth below the
+    drained top (Terzaghi 1943; Verruijt, Soil Mechanics, ch. 15)."""
+    m = np.arange(1, 2 * terms, 2)[:, None]
+    return (4 / np.pi * np.sin(m * np.pi * np.asarray(z)[None, :] / (2 * H)) / m
+            * np.exp(-m * m * np.pi ** 2 * tv / 4)).sum(axis=0)
+
+
+def degree(tv, terms=400):
+    """Average degree of consolidation U(Tv) = 1 - sum_{m odd} 8/(m^2 pi^2) exp(-m^2 pi^2 Tv / 4)."""
+    m = np.arange(1, 2 * terms, 2)
+    return 1 - float((8 / (m * m * np.pi ** 2) * np.exp(-m * m * np.pi ** 2 * tv / 4)).sum())
+
+
+def run_terzaghi(h: float, tvs=(0.05, 0.2, 0.5, 1.0), soft: bool = False) -> list[dict]:
+    """At each Tv: the largest |p - p_exact| / p0 over the particles, and the top row's settlement against
+    p0 H / M U(Tv) (relative)."""
+    case = terzaghi_case(h, soft)
+    c = terzaghi_constants(case)
+    sim = Simulation(scene_from_dict(case))
+    st = sim.state
+    out = []
+    for tv in tvs:
+        run_to(sim, tv * c["H"] ** 2 / c["cv"])
+        z = c["H"] - st.p_x0[:, 1]
+        err = float(np.abs(st.p_pore - c["p0"] * terzaghi_series(z, tv, c["H"])).max() / c["p0"])
+        top = st.p_x0[:, 1] > c["H"] - h / 2
+        settle = float(-(st.p_x[top, 1] - st.p_x0[top, 1]).mean())
+        exact = c["p0"] * c["H"] / c["M"] * degree(tv)
+        out.append({"h": h, "Tv": tv, "p_error": err, "settlement": settle, "settlement_exact": exact,
+                    "settlement_error": settle / exact - 1, "steps": sim.step_count})
+    return out
+
+
+def undrained_column(h: float, k: float = 1e-9) -> dict:
+    """The stiff Terzaghi column from rest (p = 0, sigma' = 0) loaded by q over 2 ms, with a conductivity so
+    small that no water leaves in the 10 ms run, brought to rest by local damping: the interior's pore
+    pressure against the oedometric (1D) Skempton ratio p / q = (K_w/n) / (M + K_w/n) = 1 / (1 + n M / K_w)."""
+    case = copy.deepcopy(terzaghi_case(h))
+    case["bodies"][0].pop("stress_offset")
+    case["bodies"][0].pop("pore_pressure")
+    case["materials"]["soil"]["pore_water"]["hydraulic_conductivity"] = k
+    case["boundaries"][-1]["ramp_time"] = 0.002
+    case["damping"] = [{"model": "local", "alpha": 0.3}]
+    c = terzaghi_constants(case)
+    sim = Simulation(scene_from_dict(case))
+    st = sim.state
+    run_to(sim, 0.01)
+    inner = (st.p_x0[:, 1] > 2 * h) & (st.p_x0[:, 1] < c["H"] - 2 * h)
+    ratio = float(st.p_pore[inner].mean() / c["q"])
+    exact = 1 / (1 + c["n"] * c["M"] / c["Kw"])
+    return {"h": h, "B": ratio, "B_exact": exact, "error": ratio / exact - 1}

@@ -1,0 +1,44 @@
+"""Saturated soil, two-phase MPM (kernels/twophase.py, docs/pore-water.md) against closed forms.
+
+References: hydrostatics; Terzaghi (1943) one-dimensional consolidation with the water's compressibility
+in c_v and in the undrained start (Verruijt, Soil Mechanics, ch. 15; the issue's stiff parameter set, after
+the CB-Geo consolidation benchmark); Skempton (1954) for the undrained ratio, here in its oedometric form.
+The tests assert the two coarser grids of the three in docs/pore-water.md.
+"""
+
+import pytest
+
+from tests.support.saturated import hydrostatic_column, run_terzaghi, undrained_column
+
+
+@pytest.mark.parametrize("h", [0.1, 0.05])
+def test_saturated_column_at_rest_is_hydrostatic(h):
+    """A saturated column at rest under gravity (k = 1e-2 m/s, local damping, 0.2 s): p = rho_w g depth
+    and sigma'_v = (1 - n)(rho_s - rho_w) g depth within 1 % on every row more than two cells from the
+    base and the surface. A model that puts the mixture's weight on the water (the trap of the field notes)
+    or forgets buoyancy in the geostatic start is off by 60 % or more."""
+    r = hydrostatic_column(h)
+    assert r["p_error"] < 0.01, r
+    assert r["stress_error"] < 0.01, r
+
+
+def test_terzaghi_consolidation_late_times_converge():
+    """Terzaghi, stiff set (E = 98 MPa, n = 0.3, k = 1e-3 m/s, K_w = 1e9 Pa, q = 10 kPa): the excess
+    pore-pressure profile at Tv = 0.5 and 1 within 3 % of p0 at h = 0.05 m and closer than at h = 0.1 m;
+    the settlement at Tv = 1 within 3 % at h = 0.05 m and converging. (Tv = 0.05 and 0.2 do not meet 3 %:
+    the water's and the skeleton's inertia, measured in docs/pore-water.md.)"""
+    coarse = {r["Tv"]: r for r in run_terzaghi(0.1, (0.5, 1.0))}
+    fine = {r["Tv"]: r for r in run_terzaghi(0.05, (0.5, 1.0))}
+    for tv in (0.5, 1.0):
+        assert fine[tv]["p_error"] < 0.03, fine[tv]
+        assert fine[tv]["p_error"] < coarse[tv]["p_error"], (coarse[tv], fine[tv])
+    assert abs(fine[1.0]["settlement_error"]) < 0.03, fine[1.0]
+    assert abs(fine[1.0]["settlement_error"]) < abs(coarse[1.0]["settlement_error"]), (coarse[1.0], fine[1.0])
+
+
+def test_undrained_loading_carries_the_load_in_the_water():
+    """A column of the stiff set loaded over 2 ms with k = 1e-9 m/s (no drainage in the 10 ms run): the
+    interior's pore pressure over the load equals the oedometric Skempton ratio 1 / (1 + n M / K_w) = 0.962
+    within 2 %. A formulation without the water's stiffness K_w / n gives 0, one with incompressible water 1."""
+    r = undrained_column(0.05)
+    assert abs(r["error"]) < 0.02, r
