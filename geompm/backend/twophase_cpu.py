@@ -35,6 +35,7 @@ class SaturatedCpu:
         self.c_w = np.zeros((self.nchunks, cap, self.width))
         self.g_w = np.zeros((cap, self.width))
         self.g_rel = np.zeros((cap, d))
+        self.g_rel0 = np.zeros((cap, d))
         self.g_vw = np.zeros((cap, d))
         self.g_vpre = np.zeros((cap, d))
         self.g_fill = np.zeros(cap)
@@ -50,7 +51,7 @@ class SaturatedCpu:
             self.p_fill = np.ones(n)
 
     def nbytes(self) -> int:
-        return sum(a.nbytes for a in (self.c_w, self.g_w, self.g_rel, self.g_vw, self.g_vpre, self.g_fill)) + (
+        return sum(a.nbytes for a in (self.c_w, self.g_w, self.g_rel, self.g_rel0, self.g_vw, self.g_vpre, self.g_fill)) + (
             0 if self.n < 0 else sum(a.nbytes for a in (self.p_total, self.p_wmass, self.p_drag, self.p_divw,
                                                          self.p_fill)))
 
@@ -84,13 +85,14 @@ class SaturatedCpu:
         what they changed)."""
         nn = view.g_vel.shape[0]
         tp.node_relative(view.g_mass, view.g_vel, view.g_vel_old, self.g_w[:nn], self.scene.gravity, dt,
-                         self.cpu.mass_eps, self.g_rel[:nn])
+                         self.cpu.mass_eps, self.g_rel[:nn], self.g_rel0[:nn])
         self.g_vpre[:nn] = view.g_vel
 
-    def split(self, view) -> None:
+    def split(self, view, dt: float) -> None:
         g, nn = self.scene.grid, view.g_vel.shape[0]
-        tp.node_split(view.g_mass, view.g_vel, self.g_vpre[:nn], self.g_w[:nn], self.g_rel[:nn], self.pw.walls,
-                      g.origin, g.h, view.lo, view.nloc, self.cpu.mass_eps, self.g_vw[:nn])
+        tp.node_split(view.g_mass, view.g_vel, self.g_vpre[:nn], self.g_w[:nn], self.g_rel[:nn], self.g_rel0[:nn],
+                      self.pw.walls, g.origin, g.h, view.lo, view.nloc, self.scene.gravity, dt, self.cpu.mass_eps,
+                      self.g_vw[:nn])
 
     def water_g2p(self, view) -> None:
         st, g, nn = self.cpu.state, self.scene.grid, view.g_vel.shape[0]

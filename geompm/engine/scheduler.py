@@ -116,7 +116,7 @@ class Simulation:
         for stage in self.grid_stages:
             if stage.phase >= BOUNDARY:
                 be.grid_stage(stage, view, dt, self.time, False)
-        wet.split(view)
+        wet.split(view, dt)
         wet.water_g2p(view)
         be.g2p(view, dt, set_velocity=True, move=True, gradient=True)
         for stage in self.particle_stages:

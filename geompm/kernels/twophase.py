@@ -145,7 +145,7 @@ def node_mixture(g_mass, g_mom, g_w, mass_eps, g_rel):
 
 
 @njit(parallel=True, cache=True)
-def node_relative(g_mass, g_vel, g_vel_old, g_w, gravity, dt, mass_eps, g_rel):
+def node_relative(g_mass, g_vel, g_vel_old, g_w, gravity, dt, mass_eps, g_rel, g_rel0):
     """The relative velocity after the step, w' = v_w' - v_s', drag implicit, from the mixture's
     acceleration a = (v' - v) / dt once gravity, the loads and the damping have acted on it (g_vel,
     g_vel_old) and the water's own force (m_w a_w = F_w + m_w g - c w'):
@@ -157,6 +157,8 @@ def node_relative(g_mass, g_vel, g_vel_old, g_w, gravity, dt, mass_eps, g_rel):
         big = g_mass[i]
         mw = g_w[i, 0]
         ms = big - mw
+        for a in range(d):
+            g_rel0[i, a] = g_rel[i, a]
         if ms > mass_eps and mw > mass_eps:
             den = ms * mw + dt * g_w[i, 1 + 2 * d] * big
             for a in range(d):
@@ -236,14 +238,18 @@ def node_fill(g_w, walls, origin, h, lo, nloc, cell_volume, g_fill):
 
 
 @njit(parallel=True, cache=True)
-def node_split(g_mass, g_vel, g_vpre, g_w, g_rel, walls, origin, h, lo, nloc, mass_eps, g_vw):
+def node_split(g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, walls, origin, h, lo, nloc, gravity, dt, mass_eps,
+               g_vw):
     """Solid and water velocities from the mixture's after the stages (g_vel, in place -> the solid's;
     g_vw <- the water's).
 
     ``walls`` rows (docs/pore-water.md): point (3), unit normal into the material (3), layer [m], drained.
     At an impermeable wall's node the relative velocity loses its normal part (no flow across); at a
-    drained wall's node the wall's rule binds the solid and the water crosses freely; at a node that a
-    stage changed elsewhere (an obstacle) both phases take the stage's velocity.
+    drained wall's node the wall's rule binds the solid and the water crosses freely, its normal relative
+    velocity advanced against the held solid, w_n' (m_w + dt c) = m_w w_n + dt (F_w + m_w g)_n (the
+    mixture's acceleration there is the wall's to stop, not the water's); at a node that a stage changed
+    elsewhere (an obstacle) both phases take the stage's velocity. g_rel0: the relative velocity before
+    the step.
     """
     nn, d = g_vel.shape
     nw = walls.shape[0]
@@ -269,7 +275,15 @@ def node_split(g_mass, g_vel, g_vpre, g_w, g_rel, walls, origin, h, lo, nloc, ma
                 wn = w0 * walls[k, 3] + w1 * walls[k, 4] + w2 * walls[k, 5]
                 if walls[k, 7] > 0.0:
                     drained = True
+                    mw = g_w[i, 0]
+                    old = g_rel0[i, 0] * walls[k, 3] + g_rel0[i, 1] * walls[k, 4]
+                    push = (g_w[i, 1 + d] + mw * gravity[0]) * walls[k, 3] + (g_w[i, 2 + d] + mw * gravity[1]) * walls[k, 4]
+                    if d == 3:
+                        old += g_rel0[i, 2] * walls[k, 5]
+                        push += (g_w[i, 3 + d] + mw * gravity[2]) * walls[k, 5]
+                    held = (mw * old + dt * push) / (mw + dt * g_w[i, 1 + 2 * d]) if mw > mass_eps else 0.0
                     t0, t1, t2 = w0 - wn * walls[k, 3], w1 - wn * walls[k, 4], w2 - wn * walls[k, 5]
+                    w0, w1, w2 = t0 + held * walls[k, 3], t1 + held * walls[k, 4], t2 + held * walls[k, 5]
                 else:
                     w0 -= wn * walls[k, 3]
                     w1 -= wn * walls[k, 4]
