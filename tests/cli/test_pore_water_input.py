@@ -1,0 +1,63 @@
+"""Saturated soil in a case: `geompm validate` reports the pore water's step and consolidation coefficient,
+and bad pore-water input is refused before any work with its JSON path (docs/pore-water.md, Case format).
+"""
+
+import copy
+import json
+
+import pytest
+
+from geompm.cli import main
+from geompm.errors import CaseError
+from geompm.schema import parse_case
+
+from tests.support.cases import CASES
+
+TERZAGHI = json.loads((CASES / "terzaghi_consolidation.json").read_text())
+
+
+def test_validate_reports_the_governing_wave_and_c_v(capsys):
+    """The Terzaghi case: the undrained wave (1 268 m/s = sqrt((M + K_w/n)/rho_sat) with M = 131.9 MPa,
+    K_w/n = 3.33 GPa, rho_sat = 2 155 kg/m3) sets the step, the explicit drag step 2 k/(n g) = 6.8e-4 s is
+    reported, and c_v = k / (gamma_w (1/M + n/K_w)) = 12.94 m2/s with its 2.1 % loss against water's K_w."""
+    assert main(["validate", str(CASES / "terzaghi_consolidation.json")]) == 0
+    out = capsys.readouterr().out
+    assert "set by the undrained wave" in out and "1268 m/s" in out
+    assert "2 k / (n g) = 0.00068 s" in out
+    assert "c_v = 12.94 m2/s" in out and "2.1 % smaller" in out
+
+
+def _mutated(edit):
+    case = copy.deepcopy(TERZAGHI)
+    edit(case)
+    return case
+
+
+def _pw(case):
+    return case["materials"]["soil"]["pore_water"]
+
+
+@pytest.mark.parametrize("edit, path, words", [
+    (lambda c: _pw(c).update(porosity=1.2), "materials.soil.pore_water.porosity", "must be < 1.0"),
+    (lambda c: _pw(c).update(porosity=0.0), "materials.soil.pore_water.porosity", "must be > 0.0"),
+    (lambda c: _pw(c).update(hydraulic_conductivity=-1e-3), "materials.soil.pore_water.hydraulic_conductivity",
+     "must be > 0.0"),
+    (lambda c: _pw(c).update(intrinsic_permeability=1e-10), "materials.soil.pore_water", "exactly one"),
+    (lambda c: _pw(c).pop("hydraulic_conductivity"), "materials.soil.pore_water", "exactly one"),
+    (lambda c: c["materials"]["soil"].update(model="newtonian", sound_speed=50.0, viscosity=1.0,
+                                             youngs_modulus=None) or c["materials"]["soil"].pop("youngs_modulus")
+     or c["materials"]["soil"].pop("poisson_ratio"), "materials.soil.pore_water", "fluid law"),
+    (lambda c: c.update(gravity=[0.0, -9.81]) or c["bodies"][0]["pore_pressure"].update(water_table=5.0),
+     "bodies.0.pore_pressure.water_table", "above the grid"),
+    (lambda c: c["bodies"][0]["pore_pressure"].update(water_table=0.5), "bodies.0.pore_pressure.water_table",
+     "needs gravity"),
+    (lambda c: c["solver"].update(update="musl") if "solver" in c else c.update(solver={"update": "musl"}),
+     "solver.update", "usl"),
+    (lambda c: c.update(solver={"transfer": "flip"}), "solver.transfer", "apic"),
+])
+def test_bad_pore_water_input_is_refused_with_its_path(edit, path, words):
+    """Each edit of the valid Terzaghi case is refused before any work, naming its JSON path."""
+    with pytest.raises(CaseError) as err:
+        parse_case(_mutated(edit), CASES)
+    hits = [m for p, m in err.value.problems if p == path]
+    assert hits and any(words in m for m in hits), err.value.problems
