@@ -140,6 +140,18 @@ class Simulation:
                 out[f"front_x_{name}"] = float(x) if np.isfinite(x) else float("nan")
         return out
 
+    def pore_pressure_series(self) -> dict[str, float]:
+        """``max_excess_pore_pressure`` [Pa] over the particles, and per body (``..._body<b>``) where a scene
+        has more than one (docs/pore-water.md)."""
+        st, sc = self.state, self.scene
+        excess = sc.pore_water.excess(st)
+        out = {"max_excess_pore_pressure": float(excess.max()) if st.n else float("nan")}
+        if len(sc.body_materials) > 1:
+            for b in range(len(sc.body_materials)):
+                mine = excess[st.p_body == b]
+                out[f"max_excess_pore_pressure_body{b}"] = float(mine.max()) if mine.size else float("nan")
+        return out
+
     def series_row(self) -> dict[str, float]:
         """The quantities of one series.csv row at the current state."""
         st = self.state
@@ -151,6 +163,8 @@ class Simulation:
             "front_x": max_coordinate(st.p_x, 0),
         }
         row.update(self.group_fronts())
+        if self.scene.pore_water is not None:
+            row.update(self.pore_pressure_series())
         for stage in dict.fromkeys(self.grid_stages + self.particle_stages):  # a stage of both kinds once
             row.update(stage.series())
         return row

@@ -11,29 +11,14 @@ depth in a fully saturated layer.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from geompm.kernels.twophase import K_W, KAPPA0, KOZENY, MU_W, N0, N_MAX, RHO_W
+from geompm.mpm.pore_water import PoreWater
 
 #: standard gravity [m/s2], converting a hydraulic conductivity k to an intrinsic permeability
 #: kappa = k mu_w / (rho_w g0) (the conductivity is a property measured under standard gravity)
 STANDARD_GRAVITY = 9.80665
-
-
-@dataclass
-class PoreWater:
-    """What the two-phase step needs of the case, resolved."""
-
-    table: np.ndarray  # (materials, 7): the kernels' rows (kernels/twophase.py), zeros for dry materials
-    wet: list[bool]  # per material
-    walls: np.ndarray = field(default_factory=lambda: np.zeros((0, 8)))  # (stages, 8): kernels/twophase.node_split
-    up: np.ndarray | None = None  # unit vector against gravity, None without gravity
-    g: float = 0.0  # |gravity| [m/s2]
-
-    def row(self, k: int) -> np.ndarray:
-        return self.table[k]
 
 
 def material_table(case, names) -> PoreWater | None:

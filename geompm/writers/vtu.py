@@ -55,9 +55,6 @@ def saturated_fields(sim) -> dict[str, np.ndarray]:
     [Pa, compression positive], porosity, water velocity, and the effective stress with its invariants;
     the particle "stress" becomes the total stress sigma' - p I."""
     st, pw = sim.state, sim.scene.pore_water
-    rho_w = pw.table[st.p_material, 0]
-    height = st.p_x @ pw.up if pw.up is not None else np.zeros(st.n)
-    hydro = st.p_sat * rho_w * pw.g * np.maximum(st.p_wt - height, 0.0)
     s = st.p_stress
     mean = -(s[:, 0] + s[:, 1] + s[:, 2]) / 3.0
     dev = s[:, :3] + mean[:, None]
@@ -66,7 +63,7 @@ def saturated_fields(sim) -> dict[str, np.ndarray]:
     return {"stress": total, "mean_stress_p": mean + st.p_pore, "effective_stress": s.copy(),
             "effective_mean_stress_p": mean,
             "effective_von_mises_q": np.sqrt(1.5 * (dev ** 2).sum(axis=1) + 3.0 * (s[:, 3:] ** 2).sum(axis=1)),
-            "pore_pressure": st.p_pore.copy(), "excess_pore_pressure": st.p_pore - hydro,
+            "pore_pressure": st.p_pore.copy(), "excess_pore_pressure": pw.excess(st),
             "porosity": st.p_n.copy(), "water_velocity": _pad3(st.p_vw)}
 
 

@@ -1,0 +1,29 @@
+"""Every registered law that is not a fluid runs saturated, unchanged (geompm/testing/saturated.py): in a
+sealed column loaded by q over 2 ms the mixture carries the load (total stress within 2 % of q) and the
+water its undrained share, 1 / (1 + n M / K_w) from the law's own constrained modulus (Skempton 1954, in
+its oedometric form; docs/pore-water.md). The third-party mu_i plugin of plugins/ is among them."""
+
+import pytest
+
+from geompm.contract import registry
+from geompm.testing.saturated import check_saturated, saturated_element
+
+LAWS = sorted(name for name in registry.available("materials")
+              if not registry.get("materials", name).fluid)
+
+
+def test_the_suite_covers_the_soil_laws():
+    """The built-in soil laws and the installed plugin are all checked (a registry that hid them would
+    make the next test pass vacuously)."""
+    assert {"drucker_prager", "mohr_coulomb", "linear_elastic", "mu_i"} <= set(LAWS)
+
+
+@pytest.mark.parametrize("name", LAWS)
+def test_law_runs_saturated_unchanged(name):
+    check_saturated(name)
+
+
+def test_linear_elastic_water_share_is_exact():
+    """For the elastic law the water's share is the closed form to 1e-4 (measured 1e-6)."""
+    r = saturated_element("linear_elastic")
+    assert abs(r["p_over_q"] / r["skempton"] - 1) < 1e-4, r
