@@ -13,6 +13,11 @@ their (x, y) into the DEM's pixels (the terrain obstacle's DEM, or the file
     pressure        rho u^2, rho = sum m_p / sum V0_p [Pa] (dynamic pressure of the column)
     kinetic energy  sum m_p |v_p|^2 / (2 A)          [J/m2]
 
+With saturated soil (docs/pore-water.md) one more map, ``pore_pressure_ratio_max``: the largest over the
+run of the basal pore-pressure ratio lambda = p_b / sigma_b of each column at least ``depth_threshold``
+deep, p_b the pore pressure of the column's lowest particle and sigma_b = g sum (m_s + m_w) / A the
+column's total weight per area (Iverson 1997: lambda near 1 is a liquefied, far-running flow).
+
 The maps kept are the maxima over the run of each (``depth_max``,
 ``speed_max``, ``pressure_max``, ``energy_max``), the first time the depth
 reached ``depth_threshold`` (``arrival``, NoData where it never did), the
@@ -43,6 +48,7 @@ from geompm.contract import registry
 from geompm.errors import CaseError
 from geompm.files.atomic import atomic_path, atomic_write_json, case_relative
 from geompm.contract.plugin import Params
+from geompm.kernels.twophase import RHO_W
 from geompm.writers.base import Writer
 
 NODATA = -9999.0
@@ -100,6 +106,31 @@ def accumulate(sums, area, threshold, time, depth, depth_max, speed_max, pressur
 
 
 
+@njit(cache=True)
+def basal_ratio(p_x, p_pore, p_wet_mass, x0, y0, cx, cy, nx, ny, area, g, depth, threshold, ratio_max, work):
+    """Per map cell: the pore pressure of the lowest particle over the column's total weight per area
+    (p_wet_mass: solids and water of each particle [kg]); the largest so far kept in ratio_max.  ``work``
+    (nx, ny, 3): lowest z, its pore pressure, the column's mass."""
+    for i in range(nx):
+        for j in range(ny):
+            work[i, j, 0] = np.inf
+            work[i, j, 1] = 0.0
+            work[i, j, 2] = 0.0
+    for p in range(p_x.shape[0]):
+        i = int(np.floor((p_x[p, 0] - x0) / cx))
+        j = int(np.floor((p_x[p, 1] - y0) / cy))
+        if i < 0 or j < 0 or i >= nx or j >= ny:
+            continue
+        work[i, j, 2] += p_wet_mass[p]
+        if p_x[p, 2] < work[i, j, 0]:
+            work[i, j, 0] = p_x[p, 2]
+            work[i, j, 1] = p_pore[p]
+    for i in range(nx):
+        for j in range(ny):
+            if depth[i, j] >= threshold and work[i, j, 2] > 0.0:
+                ratio_max[i, j] = max(ratio_max[i, j], work[i, j, 1] / (g * work[i, j, 2] / area))
+
+
 def _provides_ground(obstacle_type: str) -> bool:
     """Whether the obstacle plugin ``obstacle_type`` declares itself a ground (Stage.provides_ground)."""
     plugin = registry.available("obstacles").get(obstacle_type)
@@ -153,6 +184,10 @@ class HazardMapWriter(Writer):
         self.depth = np.zeros((nx, ny))
         self.maps = {name: np.zeros((nx, ny)) for name in MAPS}
         self.maps["arrival"][:] = -1.0
+        self.pore = sim.scene.pore_water
+        if self.pore is not None:
+            self.maps["pore_pressure_ratio_max"] = np.zeros((nx, ny))
+            self.basal = np.zeros((nx, ny, 3))
         self.started = False
         self.volume_outside = 0.0
 
@@ -164,6 +199,12 @@ class HazardMapWriter(Writer):
         m = self.maps
         accumulate(self.sums, self.area, self.params.depth_threshold, sim.time, self.depth, m["depth_max"],
                    m["speed_max"], m["pressure_max"], m["energy_max"], m["arrival"])
+        if self.pore is not None:
+            rho_w = self.pore.table[st.p_material, RHO_W]
+            wet_mass = st.p_mass + st.p_sat * st.p_n * rho_w * st.p_vol
+            basal_ratio(st.p_x, st.p_pore, wet_mass, self.x0, self.y0, self.cx, self.cy, nx, ny, self.area,
+                        self.pore.g, self.depth, self.params.depth_threshold, m["pore_pressure_ratio_max"],
+                        self.basal)
         if not self.started:
             m["source"][:] = self.depth
             self.started = True
@@ -197,6 +238,8 @@ class HazardMapWriter(Writer):
                    "volume_outside_m3": float(self.volume_outside),
                    "last_arrival_s": float(m["arrival"][reached].max()) if reached.any() else None,
                    "peak_pressure_Pa": float(m["pressure_max"].max()), "peak_speed_m_s": float(m["speed_max"].max()),
+                   **({"peak_pore_pressure_ratio": float(m["pore_pressure_ratio_max"].max())}
+                      if "pore_pressure_ratio_max" in m else {}),
                    "crs": self.crs, "depth_threshold": self.params.depth_threshold,
                    "dem": str(self.dem_path.resolve())}
         summary.update(self._travel(flowed))
@@ -231,10 +274,10 @@ class HazardMapWriter(Writer):
     def resume(self, run_dir: Path, sim, state: dict) -> None:
         self.open(run_dir, sim)
         saved = np.load(self.folder / "state.npz")
-        for name in MAPS:
+        for name in self.maps:
             self.maps[name][:] = saved[name]
         self.started = bool(state.get("started", True))
 
 
 UNITS = {"depth_max": "m", "speed_max": "m/s", "pressure_max": "Pa", "energy_max": "J/m2", "arrival": "s",
-         "deposit": "m", "source": "m"}
+         "deposit": "m", "source": "m", "pore_pressure_ratio_max": "-"}
