@@ -5,7 +5,7 @@ stages and G2P (the solids) with these passes around them (engine/scheduler.py, 
 
     prepare -> solid P2G -> water P2G -> node_relative -> grid update (mixture) -> stages before
     BOUNDARY -> snapshot -> BOUNDARY and OBSTACLE stages -> node_split -> water G2P -> solid G2P
-    -> particle stages -> pressure_update -> effective-stress update (the laws, unchanged)
+    -> particle stages -> porosity_update -> effective-stress update (the laws, unchanged)
 
 A scene without pore water never makes this object: its step is the dry one, unchanged.
 """
@@ -28,6 +28,7 @@ class SaturatedCpu:
         self.cap = 0
         self.n = -1
         self._grid(1024)
+        self.smoothing = bool(self.pw.smoothing)
 
     def _grid(self, cap):
         d = self.scene.dim
@@ -39,6 +40,7 @@ class SaturatedCpu:
         self.g_vw = np.zeros((cap, d))
         self.g_vpre = np.zeros((cap, d))
         self.g_fill = np.zeros(cap)
+        self.g_p = np.zeros(cap)
 
     def _particles(self):
         n = self.cpu.state.n
@@ -48,12 +50,14 @@ class SaturatedCpu:
             self.p_wmass = np.zeros(n)
             self.p_drag = np.zeros(n)
             self.p_divw = np.zeros(n)
+            self.p_divs = np.zeros(n)
+            self.p_dp = np.zeros(n)
             self.p_fill = np.ones(n)
 
     def nbytes(self) -> int:
-        return sum(a.nbytes for a in (self.c_w, self.g_w, self.g_rel, self.g_rel0, self.g_vw, self.g_vpre, self.g_fill)) + (
+        return sum(a.nbytes for a in (self.c_w, self.g_w, self.g_rel, self.g_rel0, self.g_vw, self.g_vpre, self.g_fill, self.g_p)) + (
             0 if self.n < 0 else sum(a.nbytes for a in (self.p_total, self.p_wmass, self.p_drag, self.p_divw,
-                                                         self.p_fill)))
+                                                         self.p_divs, self.p_dp, self.p_fill)))
 
     def _nodes(self, view) -> int:
         nn = view.g_mass.shape[0]
@@ -94,12 +98,15 @@ class SaturatedCpu:
                       self.pw.walls, g.origin, g.h, view.lo, view.nloc, self.scene.gravity, dt, self.cpu.mass_eps,
                       self.g_vw[:nn])
 
-    def water_g2p(self, view) -> None:
-        st, g, nn = self.cpu.state, self.scene.grid, view.g_vel.shape[0]
-        tp.water_g2p(self.cpu.tag, st.p_x, st.p_vw, self.p_divw, self.p_fill, self.g_vw[:nn], self.g_fill[:nn],
-                     g.origin, g.h, g.kind, view.lo, view.nloc)
+    def water_g2p(self, view, dt: float) -> None:
+        """The water's particle velocity and the pore pressure's step, at the particles before they move."""
+        st, g, nn, pw = self.cpu.state, self.scene.grid, view.g_vel.shape[0], self.pw
+        tp.water_g2p(self.cpu.tag, st.p_x, st.p_vw, self.p_divw, self.p_divs, self.p_fill, self.g_vw[:nn],
+                     view.g_vel, self.g_fill[:nn], g.origin, g.h, g.kind, view.lo, view.nloc)
+        tp.pressure_increment(self.cpu.tag, st.p_x, st.p_pore, self.p_dp, self.p_divw, self.p_divs, self.p_fill,
+                              st.p_vol, st.p_n, st.p_sat, st.p_material, pw.table, dt, self.smoothing, g.origin,
+                              g.h, g.kind, view.lo, view.nloc, self.c_w[:, :nn], self.g_p[:nn])
 
-    def pressure(self, dt: float) -> None:
+    def porosity(self) -> None:
         st = self.cpu.state
-        tp.pressure_update(st.p_pore, st.p_n, st.p_sat, st.p_L, self.p_divw, self.p_fill, st.p_vol, st.p_vol0,
-                           st.p_material, self.pw.table, dt)
+        tp.porosity_update(st.p_n, st.p_vol, st.p_vol0, st.p_material, self.pw.table)

@@ -117,11 +117,11 @@ class Simulation:
             if stage.phase >= BOUNDARY:
                 be.grid_stage(stage, view, dt, self.time, False)
         wet.split(view, dt)
-        wet.water_g2p(view)
+        wet.water_g2p(view, dt)
         be.g2p(view, dt, set_velocity=True, move=True, gradient=True)
         for stage in self.particle_stages:
             be.particle_stage(stage, dt, self.time)
-        wet.pressure(dt)
+        wet.porosity()
         self._end_stress(view, dt)
 
     def group_fronts(self) -> dict[str, float]:

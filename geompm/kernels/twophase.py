@@ -17,7 +17,7 @@ The relative velocity w = v_w - v_s takes the drag implicitly (node_relative): t
 drag's explicit limit 2 m_w / c (docs/pore-water.md, The time step); gravity cancels from it. After the
 stages have acted on the mixture, node_split gives the solid and the water their velocities; the solid's
 goes through the ordinary G2P (the law sees its velocity gradient L), the water's through water_g2p, and
-the pore pressure follows the water's mass balance (pressure_update):
+the pore pressure follows the water's mass balance (pressure_increment, at the particles before they move):
 
     dp = -dt K_w / n [(1 - n) tr L + n div v_w]
 
@@ -316,9 +316,9 @@ def node_split(g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, walls, origin, h, lo, 
 
 
 @njit(parallel=True, cache=True)
-def water_g2p(tag, p_x, p_vw, p_divw, p_fill, g_vw, g_fill, origin, h, kind, lo, nloc):
-    """The water's particle velocity (PIC), its divergence at the particle and the node fill interpolated
-    (at the particles' positions before they move)."""
+def water_g2p(tag, p_x, p_vw, p_divw, p_divs, p_fill, g_vw, g_vs, g_fill, origin, h, kind, lo, nloc):
+    """The water's particle velocity (PIC), the divergences of the water's and the solid's velocities at the
+    particle and the node fill interpolated (at the particles' positions before they move)."""
     n = p_x.shape[0]
     d = p_x.shape[1]
     S = len(tag)
@@ -330,40 +330,45 @@ def water_g2p(tag, p_x, p_vw, p_divw, p_fill, g_vw, g_fill, origin, h, kind, lo,
         zc = (p_x[p, 2] - origin[2]) * inv_h if d == 3 else 0.0
         bz, wz, dz = axis_stencil(zc, kind if d == 3 else LINEAR, inv_h)
         b = (bx, by, bz)
-        v0 = v1 = v2 = div = fill = 0.0
+        v0 = v1 = v2 = div = divs = fill = 0.0
         for i in range(S):
             for j in range(S):
                 for k in range(Sz):
                     wt = wx[i] * wy[j] * wz[k]
                     idx = node_index(b, lo, nloc, i, j, k, d)
+                    gx = dx[i] * wy[j] * wz[k]
+                    gy = wx[i] * dy[j] * wz[k]
                     v0 += wt * g_vw[idx, 0]
                     v1 += wt * g_vw[idx, 1]
-                    div += dx[i] * wy[j] * wz[k] * g_vw[idx, 0] + wx[i] * dy[j] * wz[k] * g_vw[idx, 1]
+                    div += gx * g_vw[idx, 0] + gy * g_vw[idx, 1]
+                    divs += gx * g_vs[idx, 0] + gy * g_vs[idx, 1]
                     if d == 3:
+                        gz = wx[i] * wy[j] * dz[k]
                         v2 += wt * g_vw[idx, 2]
-                        div += wx[i] * wy[j] * dz[k] * g_vw[idx, 2]
+                        div += gz * g_vw[idx, 2]
+                        divs += gz * g_vs[idx, 2]
                     fill += wt * g_fill[idx]
         p_vw[p, 0] = v0
         p_vw[p, 1] = v1
         if d == 3:
             p_vw[p, 2] = v2
         p_divw[p] = div
+        p_divs[p] = divs
         p_fill[p] = fill
 
 
+@njit(cache=True, inline="always")
+def drained(row, sat, n, fill):
+    """A particle without pore pressure: dry, separated or drained (at the free surface or a drained wall:
+    its node fill below FREE_SURFACE_FILL)."""
+    return wet(row, sat, n) == 0.0 or fill < FREE_SURFACE_FILL
+
+
 @njit(parallel=True, cache=True)
-def pressure_update(p_pore, p_n, p_sat, p_L, p_divw, p_fill, p_vol, p_vol0, p_material, table, dt):
-    """dp = -dt K_w / n [(1 - n) tr L + n div v_w] on wet particles inside the body; p = 0 on drained ones
-    (free surface or drained wall: fill below FREE_SURFACE_FILL; dry; separated); then n from the
-    skeleton's volume."""
-    for p in prange(p_pore.shape[0]):
+def porosity_update(p_n, p_vol, p_vol0, p_material, table):
+    """n = 1 - (1 - n0) V0 / V from the skeleton's volume after the step."""
+    for p in prange(p_n.shape[0]):
         row = table[p_material[p]]
-        n = p_n[p]
-        if wet(row, p_sat[p], n) > 0.0 and p_fill[p] >= FREE_SURFACE_FILL:
-            tr = p_L[p, 0, 0] + p_L[p, 1, 1] + p_L[p, 2, 2]
-            p_pore[p] -= dt * row[K_W] / n * ((1.0 - n) * tr + n * p_divw[p])
-        else:
-            p_pore[p] = 0.0
         if row[N0] > 0.0:
             p_n[p] = max(1.0 - (1.0 - row[N0]) * p_vol0[p] / p_vol[p], 1e-6)
 
@@ -394,3 +399,74 @@ def speed_bounds(p_v, p_vw, p_n, p_rho, p_sat, p_material, table, out):
             vs += p_v[p, a] * p_v[p, a]
             vw += p_vw[p, a] * p_vw[p, a]
         out[k, 3] = max(out[k, 3], math.sqrt(max(vs, vw)))
+
+
+@njit(parallel=True, cache=True)
+def pressure_increment(tag, p_x, p_pore, p_dp, p_divw, p_divs, p_fill, p_vol, p_n, p_sat, p_material, table, dt,
+                       smooth, origin, h, kind, lo, nloc, c_grid, g_p):
+    """The water's mass balance, dp = -dt K_w / n [(1 - n) div v_s + n div v_w], at the particles before they
+    move; with ``smooth`` the increment is seen through the grid first, dp <- sum_I N_I dp_I with
+    dp_I = sum N V dp / sum N V over the particles that hold pressure: it keeps the increments from feeding
+    patterns of particle pressure that give no nodal force (with linear shape functions and 2 particles per
+    cell, alternate rows), which impacts otherwise pump up unchecked; smoothing the increment rather than
+    the pressure leaves a smooth field's evolution consistent (docs/pore-water.md). Drained particles get
+    p = 0."""
+    n = p_x.shape[0]
+    d = p_x.shape[1]
+    nchunks = c_grid.shape[0]
+    nn = g_p.shape[0]
+    S = len(tag)
+    inv_h = 1.0 / h
+    Sz = S if d == 3 else 1
+    for p in prange(n):
+        row = table[p_material[p]]
+        nn_ = p_n[p]
+        p_dp[p] = -dt * row[K_W] / nn_ * ((1.0 - nn_) * p_divs[p] + nn_ * p_divw[p]) if nn_ > 0.0 else 0.0
+    if smooth:
+        for c in prange(nchunks):
+            g = c_grid[c]
+            for i in range(nn):
+                g[i, 0] = 0.0
+                g[i, 1] = 0.0
+            for p in range(c * n // nchunks, (c + 1) * n // nchunks):
+                if drained(table[p_material[p]], p_sat[p], p_n[p], p_fill[p]):
+                    continue
+                bx, wx, dx = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
+                by, wy, dy = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
+                zc = (p_x[p, 2] - origin[2]) * inv_h if d == 3 else 0.0
+                bz, wz, dz = axis_stencil(zc, kind if d == 3 else LINEAR, inv_h)
+                b = (bx, by, bz)
+                v = p_vol[p]
+                vp = v * p_dp[p]
+                for i in range(S):
+                    for j in range(S):
+                        for k in range(Sz):
+                            wt = wx[i] * wy[j] * wz[k]
+                            r = g[node_index(b, lo, nloc, i, j, k, d)]
+                            r[0] += wt * v
+                            r[1] += wt * vp
+        for i in prange(nn):
+            v = 0.0
+            vp = 0.0
+            for c in range(nchunks):
+                v += c_grid[c, i, 0]
+                vp += c_grid[c, i, 1]
+            g_p[i] = vp / v if v > 0.0 else 0.0
+    for p in prange(n):
+        if drained(table[p_material[p]], p_sat[p], p_n[p], p_fill[p]):
+            p_pore[p] = 0.0
+            continue
+        if not smooth:
+            p_pore[p] += p_dp[p]
+            continue
+        bx, wx, dx = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
+        by, wy, dy = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
+        zc = (p_x[p, 2] - origin[2]) * inv_h if d == 3 else 0.0
+        bz, wz, dz = axis_stencil(zc, kind if d == 3 else LINEAR, inv_h)
+        b = (bx, by, bz)
+        s = 0.0
+        for i in range(S):
+            for j in range(S):
+                for k in range(Sz):
+                    s += wx[i] * wy[j] * wz[k] * g_p[node_index(b, lo, nloc, i, j, k, d)]
+        p_pore[p] += s

@@ -18,6 +18,7 @@ class PoreWater:
     walls: np.ndarray = field(default_factory=lambda: np.zeros((0, 8)))  # (stages, 8): kernels/twophase.node_split
     up: np.ndarray | None = None  # unit vector against gravity, None without gravity
     g: float = 0.0  # |gravity| [m/s2]
+    smoothing: bool = True  # the pore pressure seen through the grid each step (kernels/twophase.smooth_pressure)
 
     def hydrostatic(self, st) -> np.ndarray:
         """Each particle's hydrostatic pore pressure rho_w |g| (z_wt - z) below its body's water table at its

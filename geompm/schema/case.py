@@ -105,6 +105,11 @@ class SolverSpec(Strict):
         "(cache locality of the particle-grid transfers once a flow has mixed them; docs/performance.md); "
         "0: never. Results change only at round-off (the order of the P2G sums)")
 
+    pore_pressure_smoothing: bool = Field(
+        True, description="Saturated soil only: see each step's pore-pressure increment through the grid before "
+        "adding it to the particles (one cell's smoothing), which keeps impacts from pumping up patterns of "
+        "particle pressure that the grid cannot see (docs/pore-water.md); false: the particles' own increments")
+
     @field_validator("flip_relaxation_time")
     @classmethod
     def _relaxation_needs_flip(cls, v, info):

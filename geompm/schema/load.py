@@ -400,6 +400,9 @@ def ineffective_settings(raw: dict, case: Case) -> list[tuple[str, str]]:
     if "p2g" in solver and case.solver.backend != "cuda":
         out.append(("solver.p2g", f"applies to solver.backend 'cuda' only (backend is '{case.solver.backend}': "
                                   "the CPU adds into private grids per thread); remove it"))
+    if "pore_pressure_smoothing" in solver and all(m.pore_water is None for m in case.materials.values()):
+        out.append(("solver.pore_pressure_smoothing", "applies to saturated materials only (none has 'pore_water'); "
+                                                      "remove it"))
     if "cfl" in time and case.time.dt is not None:
         out.append(("time.cfl", f"has no effect with a fixed time.dt = {case.time.dt:g} s; remove one of them "
                                 "(the adaptive step uses cfl, a fixed dt replaces it)"))

@@ -41,7 +41,7 @@ def material_table(case, names) -> PoreWater | None:
     g = np.asarray(case.gravity, float)
     norm = float(np.linalg.norm(g))
     return PoreWater(table=table, wet=[s is not None for s in specs], up=None if norm == 0.0 else -g / norm,
-                     g=norm)
+                     g=norm, smoothing=case.solver.pore_pressure_smoothing)
 
 
 def skeleton_params(case, name: str, params):

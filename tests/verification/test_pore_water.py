@@ -39,20 +39,21 @@ def test_terzaghi_consolidation_late_times_converge():
 def test_undrained_loading_carries_the_load_in_the_water():
     """A column of the stiff set loaded over 2 ms with k = 1e-9 m/s (no drainage in the 40 ms run): the
     interior's pore pressure over the load equals the oedometric Skempton ratio 1 / (1 + n M / K_w) = 0.962
-    within 0.2 % (measured 0.02 %), and p / sigma'_v = (K_w / n) / M within 1e-4. A formulation without the
-    water's stiffness K_w / n gives 0, one with incompressible water 1."""
+    within 0.2 % (measured 0.08 %), and p / sigma'_v = (K_w / n) / M within 3 % (measured 1.5 %; the
+    pore-pressure smoothing spreads the drained top's increments a cell down, converging at first order).
+    A formulation without the water's stiffness K_w / n gives 0, one with incompressible water 1."""
     r = undrained_column(0.05)
     assert abs(r["error"]) < 0.002, r
-    assert abs(r["split_error"]) < 1e-4, r
+    assert abs(r["split_error"]) < 0.03, r
 
 
 def test_steady_darcy_seepage_through_a_column():
     """Water seeping down through a saturated column drained at its top (free surface) and at its base
     (a drained wall): the discharge per area equals k i with the unit gradient of the water's own weight
     (i = 1, k given at standard gravity) within 2 % (measured 3e-5 at h = 0.1 m), and no pore pressure
-    builds up inside (below 10 % of rho_w g H: a row-to-row pattern of +-4 % that the linear grid does not
-    see remains, docs/pore-water.md). A drained base that held the water back, or a drag without the
-    n^2 factor, misses by 30 % or more."""
+    builds up inside (below 1 % of rho_w g H, measured 0.3 %; without the pore-pressure smoothing a
+    row-to-row pattern of +-4 % that the linear grid does not see remains, docs/pore-water.md). A drained
+    base that held the water back, or a drag without the n^2 factor, misses by 30 % or more."""
     r = seepage_column(0.1)
     assert abs(r["error"]) < 0.02, r
-    assert r["pressure"] < 0.1, r
+    assert r["pressure"] < 0.01, r

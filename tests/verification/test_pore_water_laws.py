@@ -24,6 +24,7 @@ def test_law_runs_saturated_unchanged(name):
 
 
 def test_linear_elastic_water_share_is_exact():
-    """For the elastic law the water's share is the closed form to 1e-4 (measured 1e-6)."""
+    """For the elastic law the water's share is the closed form to 1e-3 (measured 3e-4 with the pore-pressure
+    smoothing, 1e-6 without: the smoothing spreads the drained top row's increments into the 4-cell column)."""
     r = saturated_element("linear_elastic")
-    assert abs(r["p_over_q"] / r["skempton"] - 1) < 1e-4, r
+    assert abs(r["p_over_q"] / r["skempton"] - 1) < 1e-3, r
