@@ -79,6 +79,7 @@ class SaturatedCpu:
         tp.water_p2g(cpu.tag, st.p_x, st.p_vw, self.p_wmass, self.p_drag, st.p_vol, st.p_n, st.p_pore, st.p_sat,
                      st.p_material, pw.table, g.origin, g.h, g.kind, view.lo, view.nloc, self.c_w[:, :nn],
                      self.g_w[:nn])
+        tp.sum_chunks(self.c_w[:, :nn], self.g_w[:nn])
         tp.node_fill(self.g_w[:nn], pw.walls, g.origin, g.h, view.lo, view.nloc, g.h ** self.scene.dim,
                      self.g_fill[:nn])
         tp.node_mixture(view.g_mass, view.g_mom, self.g_w[:nn], cpu.mass_eps, self.g_rel[:nn])

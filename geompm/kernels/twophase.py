@@ -29,6 +29,7 @@ import math
 
 from numba import njit, prange
 
+from geompm.kernels.chunks import zero_rows
 from geompm.kernels.shape import LINEAR, axis_stencil
 
 #: columns of a material's row in the pore-water table (setup/pore_water.py)
@@ -72,6 +73,30 @@ def prepare(p_stress, p_pore, p_n, p_sat, p_vol, p_material, table, p_total, p_w
 
 
 @njit(cache=True, inline="always")
+def particle_stencil(p_x, p, origin, kind, inv_h, d):
+    """Particle p's stencil: its base node (3-tuple) and the weights and derivatives along x, y and z
+    (kernels/shape.axis_stencil); in 2D z is one node of weight 1."""
+    bx, wx, dx = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
+    by, wy, dy = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
+    zc = (p_x[p, 2] - origin[2]) * inv_h if d == 3 else 0.0
+    bz, wz, dz = axis_stencil(zc, kind if d == 3 else LINEAR, inv_h)
+    return (bx, by, bz), wx, dx, wy, dy, wz, dz
+
+
+@njit(parallel=True, cache=True)
+def sum_chunks(c_grid, out):
+    """out[i, a] = sum over chunks of c_grid[c, i, a], in chunk order (the private grids of water_p2g)."""
+    nchunks = c_grid.shape[0]
+    width = c_grid.shape[2]
+    for i in prange(out.shape[0]):
+        for a in range(width):
+            t = 0.0
+            for c in range(nchunks):
+                t += c_grid[c, i, a]
+            out[i, a] = t
+
+
+@njit(cache=True, inline="always")
 def node_index(b, lo, nloc, i, j, k, d):
     if d == 2:
         return (b[0] + i - lo[0]) * nloc[1] + (b[1] + j - lo[1])
@@ -81,8 +106,9 @@ def node_index(b, lo, nloc, i, j, k, d):
 @njit(parallel=True, cache=True)
 def water_p2g(tag, p_x, p_vw, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material, table, origin, h, kind,
               lo, nloc, c_grid, g_w):
-    """Scatter the water: g_w rows [m_w, m_w v_w (d), the water's internal force sum V s n p grad N (d), c,
-    V] (V the particles' volume, for the free-surface fill).  PIC: the water carries no affine matrix."""
+    """Scatter the water into the private grids c_grid, rows [m_w, m_w v_w (d), the water's internal force
+    sum V s n p grad N (d), c, V] (V the particles' volume, for the free-surface fill); sum_chunks adds them
+    into g_w.  PIC: the water carries no affine matrix."""
     n = p_x.shape[0]
     d = p_x.shape[1]
     nchunks = c_grid.shape[0]
@@ -93,15 +119,9 @@ def water_p2g(tag, p_x, p_vw, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_mate
     Sz = S if d == 3 else 1
     for c in prange(nchunks):
         g = c_grid[c]
-        for i in range(nn):
-            for a in range(width):
-                g[i, a] = 0.0
+        zero_rows(g, nn, width)
         for p in range(c * n // nchunks, (c + 1) * n // nchunks):
-            bx, wx, dx = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
-            by, wy, dy = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
-            zc = (p_x[p, 2] - origin[2]) * inv_h if d == 3 else 0.0
-            bz, wz, dz = axis_stencil(zc, kind if d == 3 else LINEAR, inv_h)  # 2D: one node of weight 1
-            b = (bx, by, bz)
+            b, wx, dx, wy, dy, wz, dz = particle_stencil(p_x, p, origin, kind, inv_h, d)
             row = table[p_material[p]]
             m = p_wmass[p]
             npv = wet(row, p_sat[p], p_n[p]) * p_n[p] * p_pore[p] * p_vol[p]
@@ -121,12 +141,6 @@ def water_p2g(tag, p_x, p_vw, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_mate
                             r[6] += npv * wx[i] * wy[j] * dz[k]
                         r[1 + 2 * d] += wt * p_drag[p]
                         r[2 + 2 * d] += wt * p_vol[p]
-    for i in prange(nn):
-        for a in range(width):
-            t = 0.0
-            for c in range(nchunks):
-                t += c_grid[c, i, a]
-            g_w[i, a] = t
 
 
 @njit(parallel=True, cache=True)
@@ -325,11 +339,7 @@ def water_g2p(tag, p_x, p_vw, p_divw, p_divs, p_fill, g_vw, g_vs, g_fill, origin
     inv_h = 1.0 / h
     Sz = S if d == 3 else 1
     for p in prange(n):
-        bx, wx, dx = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
-        by, wy, dy = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
-        zc = (p_x[p, 2] - origin[2]) * inv_h if d == 3 else 0.0
-        bz, wz, dz = axis_stencil(zc, kind if d == 3 else LINEAR, inv_h)
-        b = (bx, by, bz)
+        b, wx, dx, wy, dy, wz, dz = particle_stencil(p_x, p, origin, kind, inv_h, d)
         v0 = v1 = v2 = div = divs = fill = 0.0
         for i in range(S):
             for j in range(S):
@@ -425,17 +435,11 @@ def pressure_increment(tag, p_x, p_pore, p_dp, p_divw, p_divs, p_fill, p_vol, p_
     if smooth:
         for c in prange(nchunks):
             g = c_grid[c]
-            for i in range(nn):
-                g[i, 0] = 0.0
-                g[i, 1] = 0.0
+            zero_rows(g, nn, 2)
             for p in range(c * n // nchunks, (c + 1) * n // nchunks):
                 if drained(table[p_material[p]], p_sat[p], p_n[p], p_fill[p]):
                     continue
-                bx, wx, dx = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
-                by, wy, dy = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
-                zc = (p_x[p, 2] - origin[2]) * inv_h if d == 3 else 0.0
-                bz, wz, dz = axis_stencil(zc, kind if d == 3 else LINEAR, inv_h)
-                b = (bx, by, bz)
+                b, wx, dx, wy, dy, wz, dz = particle_stencil(p_x, p, origin, kind, inv_h, d)
                 v = p_vol[p]
                 vp = v * p_dp[p]
                 for i in range(S):
@@ -459,11 +463,7 @@ def pressure_increment(tag, p_x, p_pore, p_dp, p_divw, p_divs, p_fill, p_vol, p_
         if not smooth:
             p_pore[p] += p_dp[p]
             continue
-        bx, wx, dx = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
-        by, wy, dy = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
-        zc = (p_x[p, 2] - origin[2]) * inv_h if d == 3 else 0.0
-        bz, wz, dz = axis_stencil(zc, kind if d == 3 else LINEAR, inv_h)
-        b = (bx, by, bz)
+        b, wx, dx, wy, dy, wz, dz = particle_stencil(p_x, p, origin, kind, inv_h, d)
         s = 0.0
         for i in range(S):
             for j in range(S):
