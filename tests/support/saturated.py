@@ -4,7 +4,6 @@ closed forms (tests/verification/test_pore_water.py, benchmarks/pore_water/colum
 
 import copy
 import json
-import math
 
 import numpy as np
 
