@@ -30,19 +30,17 @@ def saturated_speeds(scene, state) -> dict[str, float]:
     out = {"undrained": 0.0, "water": 0.0, "skeleton": 0.0, "flow": 0.0}
     if state.n == 0:
         return out
-    bounds = np.zeros((len(scene.materials), 4))
-    tp.speed_bounds(state.p_v, state.p_vw, state.p_n, state.p_rho, state.p_sat, state.p_material, pw.table,
-                    bounds)
     for k, (mat, (s, e)) in enumerate(zip(scene.materials, state.blocks)):
         if e <= s:
             continue
+        row = pw.table[k]
+        n_min, rho_d, rho_sat, flow = tp.speed_bounds(state.p_v, state.p_vw, state.p_n, state.p_rho, state.p_sat,
+                                                      row, s, e)
         c = law_wave_speed(mat, state.p_rho[s:e])
         out["skeleton"] = max(out["skeleton"], c)
-        out["flow"] = max(out["flow"], float(bounds[k, 3]))
-        if not pw.wet[k] or bounds[k, 0] >= 1.0:
+        out["flow"] = max(out["flow"], flow)
+        if not pw.wet[k] or n_min >= 1.0:
             continue
-        row = pw.table[k]
-        n_min, rho_d, rho_sat = bounds[k, :3]
         out["undrained"] = max(out["undrained"], math.sqrt((c * c * rho_d + row[tp.K_W] / n_min) / rho_sat))
         out["water"] = max(out["water"], math.sqrt(row[tp.K_W] / row[tp.RHO_W]))
     return out

@@ -125,22 +125,30 @@ def water_p2g(tag, p_x, p_vw, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_mate
             row = table[p_material[p]]
             m = p_wmass[p]
             npv = wet(row, p_sat[p], p_n[p]) * p_n[p] * p_pore[p] * p_vol[p]
+            q0 = m * p_vw[p, 0]
+            q1 = m * p_vw[p, 1]
+            q2 = m * p_vw[p, 2] if d == 3 else 0.0
+            drag = p_drag[p]
+            vol = p_vol[p]
             for i in range(S):
                 for j in range(S):
+                    wij = wx[i] * wy[j]
+                    fx = npv * dx[i] * wy[j]
+                    fy = npv * wx[i] * dy[j]
+                    fz = npv * wij
                     for k in range(Sz):
-                        wt = wx[i] * wy[j] * wz[k]
+                        wt = wij * wz[k]
                         idx = node_index(b, lo, nloc, i, j, k, d)
-                        r = g[idx]
-                        r[0] += wt * m
-                        r[1] += wt * m * p_vw[p, 0]
-                        r[2] += wt * m * p_vw[p, 1]
-                        r[1 + d] += npv * dx[i] * wy[j] * wz[k]
-                        r[2 + d] += npv * wx[i] * dy[j] * wz[k]
+                        g[idx, 0] += wt * m
+                        g[idx, 1] += wt * q0
+                        g[idx, 2] += wt * q1
+                        g[idx, 1 + d] += fx * wz[k]
+                        g[idx, 2 + d] += fy * wz[k]
                         if d == 3:
-                            r[3] += wt * m * p_vw[p, 2]
-                            r[6] += npv * wx[i] * wy[j] * dz[k]
-                        r[1 + 2 * d] += wt * p_drag[p]
-                        r[2 + 2 * d] += wt * p_vol[p]
+                            g[idx, 3] += wt * q2
+                            g[idx, 6] += fz * dz[k]
+                        g[idx, 1 + 2 * d] += wt * drag
+                        g[idx, 2 + 2 * d] += wt * vol
 
 
 @njit(parallel=True, cache=True)
@@ -343,19 +351,25 @@ def water_g2p(tag, p_x, p_vw, p_divw, p_divs, p_fill, g_vw, g_vs, g_fill, origin
         v0 = v1 = v2 = div = divs = fill = 0.0
         for i in range(S):
             for j in range(S):
+                wij = wx[i] * wy[j]
+                dxj = dx[i] * wy[j]
+                dyj = wx[i] * dy[j]
                 for k in range(Sz):
-                    wt = wx[i] * wy[j] * wz[k]
+                    wt = wij * wz[k]
                     idx = node_index(b, lo, nloc, i, j, k, d)
-                    gx = dx[i] * wy[j] * wz[k]
-                    gy = wx[i] * dy[j] * wz[k]
-                    v0 += wt * g_vw[idx, 0]
-                    v1 += wt * g_vw[idx, 1]
-                    div += gx * g_vw[idx, 0] + gy * g_vw[idx, 1]
+                    gx = dxj * wz[k]
+                    gy = dyj * wz[k]
+                    u0 = g_vw[idx, 0]
+                    u1 = g_vw[idx, 1]
+                    v0 += wt * u0
+                    v1 += wt * u1
+                    div += gx * u0 + gy * u1
                     divs += gx * g_vs[idx, 0] + gy * g_vs[idx, 1]
                     if d == 3:
-                        gz = wx[i] * wy[j] * dz[k]
-                        v2 += wt * g_vw[idx, 2]
-                        div += gz * g_vw[idx, 2]
+                        gz = wij * dz[k]
+                        u2 = g_vw[idx, 2]
+                        v2 += wt * u2
+                        div += gz * u2
                         divs += gz * g_vs[idx, 2]
                     fill += wt * g_fill[idx]
         p_vw[p, 0] = v0
@@ -383,32 +397,27 @@ def porosity_update(p_n, p_vol, p_vol0, p_material, table):
             p_n[p] = max(1.0 - (1.0 - row[N0]) * p_vol0[p] / p_vol[p], 1e-6)
 
 
-@njit(cache=True)
-def speed_bounds(p_v, p_vw, p_n, p_rho, p_sat, p_material, table, out):
-    """Per material k: out[k] = (min n of wet particles, max dry density, min saturated density, max |v|
-    over both phases), for the stable step."""
-    nm = out.shape[0]
-    for k in range(nm):
-        out[k, 0] = 1.0
-        out[k, 1] = 0.0
-        out[k, 2] = math.inf
-        out[k, 3] = 0.0
-    n = p_v.shape[0]
+@njit(parallel=True, cache=True)
+def speed_bounds(p_v, p_vw, p_n, p_rho, p_sat, row, start, end):
+    """Over the particles start..end of one material (row: its table row): (min n of the wet particles, 1
+    if none; max dry density; min saturated density; max |v| of either phase), for the stable step."""
     d = p_v.shape[1]
-    for p in range(n):
-        k = p_material[p]
-        row = table[k]
+    n_min = 1.0
+    rho_max = 0.0
+    sat_min = math.inf
+    v2_max = 0.0
+    for p in prange(start, end):
         s = wet(row, p_sat[p], p_n[p])
-        if s > 0.0:
-            out[k, 0] = min(out[k, 0], p_n[p])
-        out[k, 1] = max(out[k, 1], p_rho[p])
-        out[k, 2] = min(out[k, 2], p_rho[p] + s * p_n[p] * row[RHO_W])
+        n_min = min(n_min, p_n[p] if s > 0.0 else 1.0)
+        rho_max = max(rho_max, p_rho[p])
+        sat_min = min(sat_min, p_rho[p] + s * p_n[p] * row[RHO_W])
         vs = 0.0
         vw = 0.0
         for a in range(d):
             vs += p_v[p, a] * p_v[p, a]
             vw += p_vw[p, a] * p_vw[p, a]
-        out[k, 3] = max(out[k, 3], math.sqrt(max(vs, vw)))
+        v2_max = max(v2_max, max(vs, vw))
+    return n_min, rho_max, sat_min, math.sqrt(v2_max)
 
 
 @njit(parallel=True, cache=True)
@@ -444,11 +453,12 @@ def pressure_increment(tag, p_x, p_pore, p_dp, p_divw, p_divs, p_fill, p_vol, p_
                 vp = v * p_dp[p]
                 for i in range(S):
                     for j in range(S):
+                        wij = wx[i] * wy[j]
                         for k in range(Sz):
-                            wt = wx[i] * wy[j] * wz[k]
-                            r = g[node_index(b, lo, nloc, i, j, k, d)]
-                            r[0] += wt * v
-                            r[1] += wt * vp
+                            wt = wij * wz[k]
+                            idx = node_index(b, lo, nloc, i, j, k, d)
+                            g[idx, 0] += wt * v
+                            g[idx, 1] += wt * vp
         for i in prange(nn):
             v = 0.0
             vp = 0.0
@@ -467,6 +477,7 @@ def pressure_increment(tag, p_x, p_pore, p_dp, p_divw, p_divs, p_fill, p_vol, p_
         s = 0.0
         for i in range(S):
             for j in range(S):
+                wij = wx[i] * wy[j]
                 for k in range(Sz):
-                    s += wx[i] * wy[j] * wz[k] * g_p[node_index(b, lo, nloc, i, j, k, d)]
+                    s += wij * wz[k] * g_p[node_index(b, lo, nloc, i, j, k, d)]
         p_pore[p] += s
