@@ -55,5 +55,7 @@ def drag_limit(scene, state) -> float:
         return float("inf")
     rows = pw.table[state.p_material[wet]]
     n = state.p_n[wet].astype(float)
-    kappa = np.array([tp.permeability(r, x) for r, x in zip(rows, n)])
+    n0 = rows[:, tp.N0]
+    kozeny = n ** 3 * (1.0 - n0) ** 2 / (n0 ** 3 * (1.0 - n) ** 2)  # kernels/twophase.permeability, vectorised
+    kappa = rows[:, tp.KAPPA0] * np.where(rows[:, tp.KOZENY] > 0.0, kozeny, 1.0)
     return float(np.min(2.0 * rows[:, tp.RHO_W] * kappa / (n * rows[:, tp.MU_W])))

@@ -3,9 +3,10 @@
 A scene with pore water runs the CPU backend's own P2G (the solids, from the total stress), grid update,
 stages and G2P (the solids) with these passes around them (engine/scheduler.py, ``_step_saturated``):
 
-    prepare -> solid P2G -> water P2G -> node_relative -> grid update (mixture) -> stages before
-    BOUNDARY -> snapshot -> BOUNDARY and OBSTACLE stages -> node_split -> water G2P -> solid G2P
-    -> particle stages -> porosity_update -> effective-stress update (the laws, unchanged)
+    p2g (prepare, solid P2G on the total stress, water P2G, node fill, node_mixture) -> grid update (the
+    mixture) -> stages before BOUNDARY -> snapshot (node_relative) -> BOUNDARY and OBSTACLE stages ->
+    split (node_split) -> water_g2p (water G2P, pressure_increment) -> solid G2P -> particle stages ->
+    porosity (porosity_update) -> effective-stress update (the laws, unchanged)
 
 A scene without pore water never makes this object: its step is the dry one, unchanged.
 """

@@ -58,10 +58,13 @@ class Simulation:
     def stable_dt(self) -> float:
         return self.backend.stable_dt()
 
-    def _begin(self, dt):
+    def _sort_if_due(self):
         every = self.scene.sort_interval
         if every and self.step_count % every == 0:
             self.backend.sort_particles()
+
+    def _begin(self, dt):
+        self._sort_if_due()
         be = self.backend
         view = be.window()
         be.p2g(view, 1.0 if be.split_force else dt)
@@ -101,9 +104,7 @@ class Simulation:
     def _step_saturated(self, dt: float) -> None:
         """USL with pore water (backend/twophase_cpu.py): the grid holds the mixture while the stages act;
         the solid and the water then take their own velocities."""
-        every = self.scene.sort_interval
-        if every and self.step_count % every == 0:
-            self.backend.sort_particles()
+        self._sort_if_due()
         be, wet = self.backend, self.backend.saturated
         view = be.window()
         wet.p2g(view)

@@ -163,7 +163,7 @@ def assemble(loaded: LoadedCase) -> Scene:
         vs.append(_body_velocity(body, pts, dim))
         vols.append(np.full(len(pts), vol))
         ms.append(np.full(len(pts), vol * mat.density))
-        waters.append(None if pw is None else body_water(body, pw, mid, pts, vol, h, ppc))
+        waters.append(None if pw is None else body_water(body, pw, mid, pts, h, ppc))
         mids.append(np.full(len(pts), mid, dtype=np.int32))
         bids.append(np.full(len(pts), b, dtype=np.int32))
         geostatic = body.initial_stress == "geostatic"

@@ -55,7 +55,7 @@ def skeleton_params(case, name: str, params):
     return params.model_copy(update={"density": (1.0 - pw.porosity) * params.density})
 
 
-def body_water(body, pw: PoreWater, mid: int, pts: np.ndarray, vol: float, h: float, ppc: int):
+def body_water(body, pw: PoreWater, mid: int, pts: np.ndarray, h: float, ppc: int):
     """(saturated flag, water-table height [m], pore pressure [Pa]) of a body's particles; None for a
     body of a dry material."""
     if not pw.wet[mid]:
