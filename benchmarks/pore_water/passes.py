@@ -31,12 +31,16 @@ def p2g_parts(table, wet, view):
     cpu, st, g, pw = wet.cpu, wet.cpu.state, wet.scene.grid, wet.pw
     wet._particles()
     nn = wet._nodes(view)
+    if wet.smoothing:
+        timed(table, "p2g: pore pressure seen through the grid (a P2G and a G2P)", tp.grid_smooth, cpu.tag,
+              st.p_x, st.p_pore_carried, st.p_drained, st.p_vol, g.origin, g.h, g.kind, view.lo, view.nloc,
+              wet.c_w[:, :nn], wet.g_p[:nn], st.p_pore)
     timed(table, "p2g: total stress, water mass, drag (prepare)", tp.prepare, st.p_stress, st.p_pore, st.p_n,
           st.p_sat, st.p_vol, st.p_material, pw.table, wet.p_total, wet.p_wmass, wet.p_drag)
     timed(table, "p2g: solid P2G (the dry kernel)", cpu.p2g_kernel, cpu.tag, cpu.scheme, st.p_x, st.p_v, st.p_C,
           st.p_mass, st.p_vol, wet.p_total, g.origin, g.h, g.kind, view.lo, view.nloc, cpu.buffers.c_grid, True,
           1.0, wet.scene.apic_dinv, view.g_mass, view.g_mom, view.g_force)
-    timed(table, "p2g: water P2G", tp.water_p2g, cpu.tag, st.p_x, st.p_vw, wet.p_wmass, wet.p_drag, st.p_vol,
+    timed(table, "p2g: water P2G", tp.water_p2g, cpu.tag, st.p_x, st.p_vw, st.p_Cw, wet.affine, wet.p_wmass, wet.p_drag, st.p_vol,
           st.p_n, st.p_pore, st.p_sat, st.p_material, pw.table, g.origin, g.h, g.kind, view.lo, view.nloc,
           wet.c_w[:, :nn], wet.g_w[:nn])
     timed(table, "p2g: water chunk sum", tp.sum_chunks, wet.c_w[:, :nn], wet.g_w[:nn])
@@ -51,11 +55,21 @@ def water_parts(table, wet, view, dt):
     from geompm.kernels import twophase as tp
 
     st, g, nn, pw = wet.cpu.state, wet.scene.grid, view.g_vel.shape[0], wet.pw
-    timed(table, "water G2P", tp.water_g2p, wet.cpu.tag, st.p_x, st.p_vw, wet.p_divw, wet.p_divs, wet.p_fill,
-          wet.g_vw[:nn], view.g_vel, wet.g_fill[:nn], g.origin, g.h, g.kind, view.lo, view.nloc)
-    timed(table, "pressure increment (smoothed: a P2G and a G2P of dp)", tp.pressure_increment, wet.cpu.tag, st.p_x,
-          st.p_pore, wet.p_dp, wet.p_divw, wet.p_divs, wet.p_fill, st.p_vol, st.p_n, st.p_sat, st.p_material,
-          pw.table, dt, wet.smoothing, g.origin, g.h, g.kind, view.lo, view.nloc, wet.c_w[:, :nn], wet.g_p[:nn])
+    timed(table, "water G2P", tp.water_g2p, wet.cpu.tag, st.p_x, st.p_vw, st.p_Cw, wet.affine, wet.scene.apic_dinv,
+          wet.p_divw, wet.p_divs, wet.p_fill, wet.g_vw[:nn], view.g_vel, wet.g_fill[:nn], g.origin, g.h, g.kind,
+          view.lo, view.nloc)
+    timed(table, "pressure increment", tp.flag_drained, wet.p_fill, st.p_sat, st.p_n, st.p_material, pw.table,
+          st.p_drained)
+    timed(table, "pressure increment", tp.pressure_increment, wet.p_dp, wet.p_divw, wet.p_divs, st.p_n,
+          st.p_material, pw.table, dt)
+    dp = wet.p_dp
+    if wet.smoothing:
+        timed(table, "increment seen through the grid (a P2G and a G2P)", tp.grid_smooth, wet.cpu.tag, st.p_x,
+              wet.p_dp, st.p_drained, st.p_vol, g.origin, g.h, g.kind, view.lo, view.nloc, wet.c_w[:, :nn],
+              wet.g_p[:nn], wet.p_dps)
+        dp = wet.p_dps
+    timed(table, "pressure increment", tp.add_increment, st.p_pore_carried, dp, st.p_drained)
+    timed(table, "pressure increment", tp.add_increment, st.p_pore, dp, st.p_drained)
 
 
 def saturated_passes(steps):

@@ -30,6 +30,7 @@ class SaturatedCpu:
         self.n = -1
         self._grid(1024)
         self.smoothing = bool(self.pw.smoothing)
+        self.affine = self.scene.transfer in ("apic", "mls")  # the water's transfer follows the solid's
 
     def _grid(self, cap):
         d = self.scene.dim
@@ -54,11 +55,13 @@ class SaturatedCpu:
             self.p_divs = np.zeros(n)
             self.p_dp = np.zeros(n)
             self.p_fill = np.ones(n)
+            self.p_dps = np.zeros(n)
 
     def nbytes(self) -> int:
         return sum(a.nbytes for a in (self.c_w, self.g_w, self.g_rel, self.g_rel0, self.g_vw, self.g_vpre, self.g_fill, self.g_p)) + (
             0 if self.n < 0 else sum(a.nbytes for a in (self.p_total, self.p_wmass, self.p_drag, self.p_divw,
-                                                         self.p_divs, self.p_dp, self.p_fill)))
+                                                         self.p_divs, self.p_dp, self.p_fill,
+                                                         self.p_dps)))
 
     def _nodes(self, view) -> int:
         nn = view.g_mass.shape[0]
@@ -72,12 +75,15 @@ class SaturatedCpu:
         cpu, st, g, pw = self.cpu, self.cpu.state, self.scene.grid, self.pw
         self._particles()
         nn = self._nodes(view)
+        if self.smoothing:
+            tp.grid_smooth(cpu.tag, st.p_x, st.p_pore_carried, st.p_drained, st.p_vol, g.origin, g.h, g.kind,
+                           view.lo, view.nloc, self.c_w[:, :nn], self.g_p[:nn], st.p_pore)
         tp.prepare(st.p_stress, st.p_pore, st.p_n, st.p_sat, st.p_vol, st.p_material, pw.table, self.p_total,
                    self.p_wmass, self.p_drag)
         cpu.p2g_kernel(cpu.tag, cpu.scheme, st.p_x, st.p_v, st.p_C, st.p_mass, st.p_vol, self.p_total, g.origin,
                        g.h, g.kind, view.lo, view.nloc, cpu.buffers.c_grid, True, 1.0, self.scene.apic_dinv,
                        view.g_mass, view.g_mom, view.g_force)
-        tp.water_p2g(cpu.tag, st.p_x, st.p_vw, self.p_wmass, self.p_drag, st.p_vol, st.p_n, st.p_pore, st.p_sat,
+        tp.water_p2g(cpu.tag, st.p_x, st.p_vw, st.p_Cw, self.affine, self.p_wmass, self.p_drag, st.p_vol, st.p_n, st.p_pore, st.p_sat,
                      st.p_material, pw.table, g.origin, g.h, g.kind, view.lo, view.nloc, self.c_w[:, :nn],
                      self.g_w[:nn])
         tp.sum_chunks(self.c_w[:, :nn], self.g_w[:nn])
@@ -103,11 +109,18 @@ class SaturatedCpu:
     def water_g2p(self, view, dt: float) -> None:
         """The water's particle velocity and the pore pressure's step, at the particles before they move."""
         st, g, nn, pw = self.cpu.state, self.scene.grid, view.g_vel.shape[0], self.pw
-        tp.water_g2p(self.cpu.tag, st.p_x, st.p_vw, self.p_divw, self.p_divs, self.p_fill, self.g_vw[:nn],
+        tp.water_g2p(self.cpu.tag, st.p_x, st.p_vw, st.p_Cw, self.affine, self.scene.apic_dinv, self.p_divw,
+                     self.p_divs, self.p_fill, self.g_vw[:nn],
                      view.g_vel, self.g_fill[:nn], g.origin, g.h, g.kind, view.lo, view.nloc)
-        tp.pressure_increment(self.cpu.tag, st.p_x, st.p_pore, self.p_dp, self.p_divw, self.p_divs, self.p_fill,
-                              st.p_vol, st.p_n, st.p_sat, st.p_material, pw.table, dt, self.smoothing, g.origin,
-                              g.h, g.kind, view.lo, view.nloc, self.c_w[:, :nn], self.g_p[:nn])
+        tp.flag_drained(self.p_fill, st.p_sat, st.p_n, st.p_material, pw.table, st.p_drained)
+        tp.pressure_increment(self.p_dp, self.p_divw, self.p_divs, st.p_n, st.p_material, pw.table, dt)
+        dp = self.p_dp
+        if self.smoothing:
+            tp.grid_smooth(self.cpu.tag, st.p_x, self.p_dp, st.p_drained, st.p_vol, g.origin, g.h, g.kind, view.lo,
+                           view.nloc, self.c_w[:, :nn], self.g_p[:nn], self.p_dps)
+            dp = self.p_dps
+        tp.add_increment(st.p_pore_carried, dp, st.p_drained)
+        tp.add_increment(st.p_pore, dp, st.p_drained)
 
     def porosity(self) -> None:
         st = self.cpu.state

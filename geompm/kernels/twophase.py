@@ -104,11 +104,14 @@ def node_index(b, lo, nloc, i, j, k, d):
 
 
 @njit(parallel=True, cache=True)
-def water_p2g(tag, p_x, p_vw, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material, table, origin, h, kind,
-              lo, nloc, c_grid, g_w):
+def water_p2g(tag, p_x, p_vw, p_Cw, affine, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material, table,
+              origin, h, kind, lo, nloc, c_grid, g_w):
     """Scatter the water into the private grids c_grid, rows [m_w, m_w v_w (d), the water's internal force
     sum V s n p grad N (d), c, V] (V the particles' volume, for the free-surface fill); sum_chunks adds them
-    into g_w.  PIC: the water carries no affine matrix."""
+    into g_w.  With ``affine`` (the solid's transfer APIC or MLS) the water's momentum carries its affine
+    matrix, m_w (v_w + C_w (x_I - x_p)), as the solid's does: a water transferred by PIC would damp the
+    mixture's shear and rotation each step through the drag that binds the phases, and the mixture would
+    flow as if it were PIC (measured in docs/pore-water.md)."""
     n = p_x.shape[0]
     d = p_x.shape[1]
     nchunks = c_grid.shape[0]
@@ -128,25 +131,45 @@ def water_p2g(tag, p_x, p_vw, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_mate
             q0 = m * p_vw[p, 0]
             q1 = m * p_vw[p, 1]
             q2 = m * p_vw[p, 2] if d == 3 else 0.0
+            # the affine part m C_w (x_I - x_p), x_I - x_p = o + h (i, j, k): per axis a the row of m C_w
+            c00 = c01 = c02 = c10 = c11 = c12 = c20 = c21 = c22 = 0.0
+            o0 = o1 = o2 = 0.0
+            if affine:
+                c00, c01, c10, c11 = m * p_Cw[p, 0, 0], m * p_Cw[p, 0, 1], m * p_Cw[p, 1, 0], m * p_Cw[p, 1, 1]
+                o0 = b[0] * h + origin[0] - p_x[p, 0]
+                o1 = b[1] * h + origin[1] - p_x[p, 1]
+                if d == 3:
+                    c02, c12 = m * p_Cw[p, 0, 2], m * p_Cw[p, 1, 2]
+                    c20, c21, c22 = m * p_Cw[p, 2, 0], m * p_Cw[p, 2, 1], m * p_Cw[p, 2, 2]
+                    o2 = b[2] * h + origin[2] - p_x[p, 2]
             drag = p_drag[p]
             vol = p_vol[p]
             for i in range(S):
+                ex = o0 + i * h
                 for j in range(S):
+                    ey = o1 + j * h
                     wij = wx[i] * wy[j]
                     fx = npv * dx[i] * wy[j]
                     fy = npv * wx[i] * dy[j]
                     fz = npv * wij
+                    r0 = q0 + c00 * ex + c01 * ey
+                    r1 = q1 + c10 * ex + c11 * ey
+                    r2 = q2 + c20 * ex + c21 * ey
                     for k in range(Sz):
                         wt = wij * wz[k]
                         idx = node_index(b, lo, nloc, i, j, k, d)
                         g[idx, 0] += wt * m
-                        g[idx, 1] += wt * q0
-                        g[idx, 2] += wt * q1
                         g[idx, 1 + d] += fx * wz[k]
                         g[idx, 2 + d] += fy * wz[k]
                         if d == 3:
-                            g[idx, 3] += wt * q2
+                            ez = o2 + k * h
+                            g[idx, 1] += wt * (r0 + c02 * ez)
+                            g[idx, 2] += wt * (r1 + c12 * ez)
+                            g[idx, 3] += wt * (r2 + c22 * ez)
                             g[idx, 6] += fz * dz[k]
+                        else:
+                            g[idx, 1] += wt * r0
+                            g[idx, 2] += wt * r1
                         g[idx, 1 + 2 * d] += wt * drag
                         g[idx, 2 + 2 * d] += wt * vol
 
@@ -338,9 +361,12 @@ def node_split(g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, walls, origin, h, lo, 
 
 
 @njit(parallel=True, cache=True)
-def water_g2p(tag, p_x, p_vw, p_divw, p_divs, p_fill, g_vw, g_vs, g_fill, origin, h, kind, lo, nloc):
-    """The water's particle velocity (PIC), the divergences of the water's and the solid's velocities at the
-    particle and the node fill interpolated (at the particles' positions before they move)."""
+def water_g2p(tag, p_x, p_vw, p_Cw, affine, apic_dinv, p_divw, p_divs, p_fill, g_vw, g_vs, g_fill, origin, h,
+              kind, lo, nloc):
+    """The water's particle velocity, its affine matrix (with ``affine``: C_w = B_w D^-1 as the solid's
+    APIC, B_w = sum N v_wI (x_I - x_p)^T, or the velocity gradient for linear hats, apic_dinv = 0), the
+    divergences of the water's and the solid's velocities at the particle and the node fill interpolated
+    (at the particles' positions before they move)."""
     n = p_x.shape[0]
     d = p_x.shape[1]
     S = len(tag)
@@ -349,6 +375,11 @@ def water_g2p(tag, p_x, p_vw, p_divw, p_divs, p_fill, g_vw, g_vs, g_fill, origin
     for p in prange(n):
         b, wx, dx, wy, dy, wz, dz = particle_stencil(p_x, p, origin, kind, inv_h, d)
         v0 = v1 = v2 = div = divs = fill = 0.0
+        # A[a, e] = sum v_a (x_I - x_p)_e (APIC) or sum v_a dN/dx_e (linear hats)
+        a00 = a01 = a02 = a10 = a11 = a12 = a20 = a21 = a22 = 0.0
+        o0 = b[0] * h + origin[0] - p_x[p, 0]
+        o1 = b[1] * h + origin[1] - p_x[p, 1]
+        o2 = b[2] * h + origin[2] - p_x[p, 2] if d == 3 else 0.0
         for i in range(S):
             for j in range(S):
                 wij = wx[i] * wy[j]
@@ -359,23 +390,42 @@ def water_g2p(tag, p_x, p_vw, p_divw, p_divs, p_fill, g_vw, g_vs, g_fill, origin
                     idx = node_index(b, lo, nloc, i, j, k, d)
                     gx = dxj * wz[k]
                     gy = dyj * wz[k]
+                    gz = wij * dz[k] if d == 3 else 0.0
                     u0 = g_vw[idx, 0]
                     u1 = g_vw[idx, 1]
+                    u2 = g_vw[idx, 2] if d == 3 else 0.0
                     v0 += wt * u0
                     v1 += wt * u1
-                    div += gx * u0 + gy * u1
+                    v2 += wt * u2
+                    div += gx * u0 + gy * u1 + gz * u2
                     divs += gx * g_vs[idx, 0] + gy * g_vs[idx, 1]
                     if d == 3:
-                        gz = wij * dz[k]
-                        u2 = g_vw[idx, 2]
-                        v2 += wt * u2
-                        div += gz * u2
                         divs += gz * g_vs[idx, 2]
                     fill += wt * g_fill[idx]
+                    if affine:
+                        if apic_dinv > 0.0:
+                            e0, e1, e2 = wt * (o0 + i * h), wt * (o1 + j * h), wt * (o2 + k * h)
+                        else:
+                            e0, e1, e2 = gx, gy, gz
+                        a00 += u0 * e0
+                        a01 += u0 * e1
+                        a02 += u0 * e2
+                        a10 += u1 * e0
+                        a11 += u1 * e1
+                        a12 += u1 * e2
+                        a20 += u2 * e0
+                        a21 += u2 * e1
+                        a22 += u2 * e2
         p_vw[p, 0] = v0
         p_vw[p, 1] = v1
         if d == 3:
             p_vw[p, 2] = v2
+        if affine:
+            f = apic_dinv if apic_dinv > 0.0 else 1.0
+            p_Cw[p, 0, 0], p_Cw[p, 0, 1], p_Cw[p, 1, 0], p_Cw[p, 1, 1] = f * a00, f * a01, f * a10, f * a11
+            if d == 3:
+                p_Cw[p, 0, 2], p_Cw[p, 1, 2] = f * a02, f * a12
+                p_Cw[p, 2, 0], p_Cw[p, 2, 1], p_Cw[p, 2, 2] = f * a20, f * a21, f * a22
         p_divw[p] = div
         p_divs[p] = divs
         p_fill[p] = fill
@@ -421,15 +471,18 @@ def speed_bounds(p_v, p_vw, p_n, p_rho, p_sat, row, start, end):
 
 
 @njit(parallel=True, cache=True)
-def pressure_increment(tag, p_x, p_pore, p_dp, p_divw, p_divs, p_fill, p_vol, p_n, p_sat, p_material, table, dt,
-                       smooth, origin, h, kind, lo, nloc, c_grid, g_p):
-    """The water's mass balance, dp = -dt K_w / n [(1 - n) div v_s + n div v_w], at the particles before they
-    move; with ``smooth`` the increment is seen through the grid first, dp <- sum_I N_I dp_I with
-    dp_I = sum N V dp / sum N V over the particles that hold pressure: it keeps the increments from feeding
-    patterns of particle pressure that give no nodal force (with linear shape functions and 2 particles per
-    cell, alternate rows), which impacts otherwise pump up unchecked; smoothing the increment rather than
-    the pressure leaves a smooth field's evolution consistent (docs/pore-water.md). Drained particles get
-    p = 0."""
+def flag_drained(p_fill, p_sat, p_n, p_material, table, p_drained):
+    """p_drained = 1 where the particle holds no pore pressure (``drained``), 0 where it holds one."""
+    for p in prange(p_fill.shape[0]):
+        p_drained[p] = 1.0 if drained(table[p_material[p]], p_sat[p], p_n[p], p_fill[p]) else 0.0
+
+
+@njit(parallel=True, cache=True)
+def grid_smooth(tag, p_x, p_val, p_drained, p_vol, origin, h, kind, lo, nloc, c_grid, g_p, p_out):
+    """p_out = S p_val: the field seen through the grid, p_out = sum_I N_I f_I with
+    f_I = sum N V f / sum N V over the particles that hold pressure (p_drained 0), and p_out = 0 on the
+    others.  S is self-adjoint in the particles' volume-weighted inner product, so a pressure and its
+    increment both seen through it exchange energy with the velocities without a residue (docs/pore-water.md)."""
     n = p_x.shape[0]
     d = p_x.shape[1]
     nchunks = c_grid.shape[0]
@@ -437,41 +490,33 @@ def pressure_increment(tag, p_x, p_pore, p_dp, p_divw, p_divs, p_fill, p_vol, p_
     S = len(tag)
     inv_h = 1.0 / h
     Sz = S if d == 3 else 1
+    for c in prange(nchunks):
+        g = c_grid[c]
+        zero_rows(g, nn, 2)
+        for p in range(c * n // nchunks, (c + 1) * n // nchunks):
+            if p_drained[p] != 0.0:
+                continue
+            b, wx, dx, wy, dy, wz, dz = particle_stencil(p_x, p, origin, kind, inv_h, d)
+            v = p_vol[p]
+            vp = v * p_val[p]
+            for i in range(S):
+                for j in range(S):
+                    wij = wx[i] * wy[j]
+                    for k in range(Sz):
+                        wt = wij * wz[k]
+                        idx = node_index(b, lo, nloc, i, j, k, d)
+                        g[idx, 0] += wt * v
+                        g[idx, 1] += wt * vp
+    for i in prange(nn):
+        v = 0.0
+        vp = 0.0
+        for c in range(nchunks):
+            v += c_grid[c, i, 0]
+            vp += c_grid[c, i, 1]
+        g_p[i] = vp / v if v > 0.0 else 0.0
     for p in prange(n):
-        row = table[p_material[p]]
-        nn_ = p_n[p]
-        p_dp[p] = -dt * row[K_W] / nn_ * ((1.0 - nn_) * p_divs[p] + nn_ * p_divw[p]) if nn_ > 0.0 else 0.0
-    if smooth:
-        for c in prange(nchunks):
-            g = c_grid[c]
-            zero_rows(g, nn, 2)
-            for p in range(c * n // nchunks, (c + 1) * n // nchunks):
-                if drained(table[p_material[p]], p_sat[p], p_n[p], p_fill[p]):
-                    continue
-                b, wx, dx, wy, dy, wz, dz = particle_stencil(p_x, p, origin, kind, inv_h, d)
-                v = p_vol[p]
-                vp = v * p_dp[p]
-                for i in range(S):
-                    for j in range(S):
-                        wij = wx[i] * wy[j]
-                        for k in range(Sz):
-                            wt = wij * wz[k]
-                            idx = node_index(b, lo, nloc, i, j, k, d)
-                            g[idx, 0] += wt * v
-                            g[idx, 1] += wt * vp
-        for i in prange(nn):
-            v = 0.0
-            vp = 0.0
-            for c in range(nchunks):
-                v += c_grid[c, i, 0]
-                vp += c_grid[c, i, 1]
-            g_p[i] = vp / v if v > 0.0 else 0.0
-    for p in prange(n):
-        if drained(table[p_material[p]], p_sat[p], p_n[p], p_fill[p]):
-            p_pore[p] = 0.0
-            continue
-        if not smooth:
-            p_pore[p] += p_dp[p]
+        if p_drained[p] != 0.0:
+            p_out[p] = 0.0
             continue
         b, wx, dx, wy, dy, wz, dz = particle_stencil(p_x, p, origin, kind, inv_h, d)
         s = 0.0
@@ -480,4 +525,21 @@ def pressure_increment(tag, p_x, p_pore, p_dp, p_divw, p_divs, p_fill, p_vol, p_
                 wij = wx[i] * wy[j]
                 for k in range(Sz):
                     s += wij * wz[k] * g_p[node_index(b, lo, nloc, i, j, k, d)]
-        p_pore[p] += s
+        p_out[p] = s
+
+
+@njit(parallel=True, cache=True)
+def pressure_increment(p_dp, p_divw, p_divs, p_n, p_material, table, dt):
+    """The water's mass balance, dp = -dt K_w / n [(1 - n) div v_s + n div v_w], at the particles before they
+    move."""
+    for p in prange(p_dp.shape[0]):
+        row = table[p_material[p]]
+        nn_ = p_n[p]
+        p_dp[p] = -dt * row[K_W] / nn_ * ((1.0 - nn_) * p_divs[p] + nn_ * p_divw[p]) if nn_ > 0.0 else 0.0
+
+
+@njit(parallel=True, cache=True)
+def add_increment(p_pore, p_dp, p_drained):
+    """p += dp where the particle holds pressure; p = 0 where it is drained."""
+    for p in prange(p_pore.shape[0]):
+        p_pore[p] = 0.0 if p_drained[p] != 0.0 else p_pore[p] + p_dp[p]

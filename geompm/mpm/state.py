@@ -14,7 +14,13 @@ n particles, d dimensions; shapes as below, SI units:
 
 Saturated soil (docs/pore-water.md) adds, and only then (None otherwise):
 
-    p_vw (n, d) water velocity [m/s]       p_pore (n,) pore pressure [Pa, compression positive]
+    p_vw (n, d) water velocity [m/s]       p_Cw (n, d, d) the water's affine matrix [1/s] (APIC and MLS)
+    p_pore (n,) pore pressure [Pa, compression positive]: the pressure that acts on the grid and that every
+        output reports, the carried pressure seen through the grid (kernels/twophase.grid_smooth)
+    p_pore_carried (n,) each particle's own sum of its mass-balance increments [Pa] (the state variable;
+        equal to p_pore without solver.pore_pressure_smoothing)
+    p_drained (n,) 1 where the particle held no pore pressure at its last update (dry, separated, at the
+        free surface or a drained boundary), else 0
     p_n (n,) porosity [-]                  p_sat (n,) 1 for a saturated particle, 0 for a dry one
     p_wt (n,) height of its body's water table along the upward direction [m] (the hydrostatic reference
         of the excess pore pressure)
@@ -48,7 +54,10 @@ class ParticleState:
     p_L: np.ndarray = None
     p_id: np.ndarray = None
     p_vw: np.ndarray = None
+    p_Cw: np.ndarray = None
     p_pore: np.ndarray = None
+    p_pore_carried: np.ndarray = None
+    p_drained: np.ndarray = None
     p_n: np.ndarray = None
     p_sat: np.ndarray = None
     p_wt: np.ndarray = None

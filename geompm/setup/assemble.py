@@ -200,7 +200,10 @@ def assemble(loaded: LoadedCase) -> Scene:
     )
     if pw is not None:
         state.p_sat, state.p_wt, state.p_pore = (np.ascontiguousarray(a[order]) for a in water)
+        state.p_pore_carried = state.p_pore.copy()
+        state.p_drained = 1.0 - state.p_sat
         state.p_vw = state.p_v.copy()
+        state.p_Cw = np.zeros_like(state.p_C)
         state.p_n = pw.table[state.p_material, N0].copy()
     counts = np.bincount(state.p_material, minlength=len(materials))
     starts = np.r_[0, np.cumsum(counts)]

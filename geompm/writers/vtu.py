@@ -52,8 +52,9 @@ def add_text_field(path, name: str, text: str) -> None:
 
 def saturated_fields(sim) -> dict[str, np.ndarray]:
     """The pore water's fields: pore pressure p and its excess over the hydrostatic p_h = rho_w |g| (z_wt - z)
-    [Pa, compression positive], porosity, water velocity, and the effective stress with its invariants;
-    the particle "stress" becomes the total stress sigma' - p I."""
+    [Pa, compression positive], porosity, water velocity, the drained flag (1 where the particle held no
+    pore pressure at its last update: dry, separated, at the free surface or a drained boundary), and the
+    effective stress with its invariants; the particle "stress" becomes the total stress sigma' - p I."""
     st, pw = sim.state, sim.scene.pore_water
     s = st.p_stress
     mean = -(s[:, 0] + s[:, 1] + s[:, 2]) / 3.0
@@ -64,7 +65,7 @@ def saturated_fields(sim) -> dict[str, np.ndarray]:
             "effective_mean_stress_p": mean,
             "effective_von_mises_q": np.sqrt(1.5 * (dev ** 2).sum(axis=1) + 3.0 * (s[:, 3:] ** 2).sum(axis=1)),
             "pore_pressure": st.p_pore.copy(), "excess_pore_pressure": pw.excess(st),
-            "porosity": st.p_n.copy(), "water_velocity": _pad3(st.p_vw)}
+            "porosity": st.p_n.copy(), "water_velocity": _pad3(st.p_vw), "drained": st.p_drained.copy()}
 
 
 def particle_fields(sim) -> dict[str, np.ndarray]:

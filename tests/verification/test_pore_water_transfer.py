@@ -1,0 +1,87 @@
+"""Saturated soil: the water's transfer and the free surface (kernels/twophase.py, docs/pore-water.md).
+
+A saturated block spinning rigidly without gravity keeps its angular momentum (solids and water) as APIC
+does for a dry one (Jiang et al. 2015, SIGGRAPH: APIC conserves angular momentum in the transfers); the
+water carries its own affine matrix. And the pore pressure is zero exactly on the particles flagged as
+drained, which on a block at rest are those within about half a cell of its free surface and none next to
+an impermeable wall (the node fill mirrored in the wall).
+"""
+
+import numpy as np
+import pytest
+
+from geompm.api import scene_from_dict
+from geompm.engine.scheduler import Simulation
+
+
+def spinning_block(shape: str):
+    case = {"name": "spin", "dimension": 2,
+            "grid": {"origin": [0, 0], "extent": [1.0, 1.0], "cell_size": 0.05, "shape_function": shape},
+            "time": {"end": 1.0}, "gravity": [0.0, 0.0], "solver": {"transfer": "apic"},
+            "materials": {"soil": {"model": "linear_elastic", "density": 2650.0, "youngs_modulus": 1e6,
+                                   "poisson_ratio": 0.3,
+                                   "pore_water": {"porosity": 0.4, "hydraulic_conductivity": 1e-4,
+                                                  "fluid": {"bulk_modulus": 2e7}}}},
+            "bodies": [{"material": "soil", "geometry": {"type": "box", "min": [0.3, 0.3], "max": [0.7, 0.7]},
+                        "particles_per_cell": 2}]}
+    sim = Simulation(scene_from_dict(case))
+    st = sim.state
+    r = st.p_x - 0.5
+    st.p_v[:, 0], st.p_v[:, 1] = -r[:, 1], r[:, 0]  # 1 rad/s about the block's centre
+    st.p_vw[:] = st.p_v
+    return sim
+
+
+def angular_momentum(st) -> float:
+    r = st.p_x - st.p_x.mean(axis=0)
+    m_w = st.p_sat * st.p_n * 1000.0 * st.p_vol
+    return float((st.p_mass * (r[:, 0] * st.p_v[:, 1] - r[:, 1] * st.p_v[:, 0])).sum()
+                 + (m_w * (r[:, 0] * st.p_vw[:, 1] - r[:, 1] * st.p_vw[:, 0])).sum())
+
+
+@pytest.mark.parametrize("shape", ["linear", "quadratic"])
+def test_saturated_block_keeps_its_spin(shape):
+    """A saturated elastic block (n = 0.4, k = 1e-4 m/s, K_w = 2e7 Pa) spinning at 1 rad/s without gravity:
+    the mixture's particle angular momentum loses 3.4 % (linear) / 4.5 % (quadratic) in the first steps
+    (the affine matrices start at zero; a dry block loses the same) and then keeps it: from step 100 to 300
+    it changes by less than 0.5 % (measured 0.08 / 0.05 %). A water transferred by PIC beside an APIC solid
+    (the drag binds the phases) loses 49-59 % by step 100 and 88-94 % by step 300: the mixture then flows
+    as PIC, which slowed the saturated debris down its slope (docs/pore-water.md)."""
+    sim = spinning_block(shape)
+    L0 = angular_momentum(sim.state)
+    for _ in range(100):
+        sim.step(sim.stable_dt())
+    L100 = angular_momentum(sim.state)
+    for _ in range(200):
+        sim.step(sim.stable_dt())
+    L300 = angular_momentum(sim.state)
+    assert abs(L100 / L0 - 1) < 0.06, (L0, L100)
+    assert abs(L300 / L100 - 1) < 0.005, (L100, L300)
+
+
+def test_pore_pressure_is_zero_exactly_on_the_drained_free_surface():
+    """A saturated block at rest (quadratic B-splines, 2 particles per cell, hydrostatic, impermeable base
+    and side walls) after 20 steps: the drained flag marks every particle of the top row and none more than
+    one cell below the surface or in the rest of the body (the fill is mirrored in the impermeable walls, so
+    the particles along them hold pressure); flagged particles carry p = 0, the others p > 0."""
+    h = 0.05
+    case = {"name": "surface", "dimension": 2,
+            "grid": {"origin": [0, 0], "extent": [0.4, 0.5], "cell_size": h, "shape_function": "quadratic"},
+            "time": {"end": 1.0}, "gravity": [0.0, -9.81],
+            "materials": {"soil": {"model": "linear_elastic", "density": 2650.0, "youngs_modulus": 1e7,
+                                   "poisson_ratio": 0.3,
+                                   "pore_water": {"porosity": 0.4, "hydraulic_conductivity": 1e-3,
+                                                  "fluid": {"bulk_modulus": 2e7}}}},
+            "bodies": [{"material": "soil", "geometry": {"type": "box", "min": [0.0, 0.0], "max": [0.4, 0.3]},
+                        "particles_per_cell": 2, "initial_stress": "geostatic"}],
+            "boundaries": [{"type": "wall", "side": s, "condition": "slip"} for s in ("y-", "x-", "x+")]}
+    sim = Simulation(scene_from_dict(case))
+    for _ in range(20):
+        sim.step(sim.stable_dt())
+    st = sim.state
+    depth = 0.3 - st.p_x0[:, 1]
+    drained = st.p_drained > 0
+    assert drained[depth < h / 2].all()
+    assert not drained[depth > h].any()
+    assert np.all(st.p_pore[drained] == 0.0)
+    assert np.all(st.p_pore[~drained] > 0.0)
