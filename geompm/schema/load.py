@@ -25,7 +25,7 @@ from geompm.files.atomic import case_relative, unreadable_file
 from geompm.mpm.memory import available_memory, grid_bytes, particle_bytes, window_nodes
 from geompm.schema.case import Case, DampingSpec, MaterialSpec, OutputSpec, PluginSpec
 from geompm.schema.errors import format_validation_error
-from geompm.schema.pore_water import pore_water_problems
+from geompm.schema.pore_water import pore_water_problems, pore_water_warnings
 from geompm.schema.raw_checks import TOO_DEEP, merge, raw_problems
 
 
@@ -372,6 +372,7 @@ def _parse_valid_numbers(raw: dict, base_dir: Path) -> LoadedCase:
     problems.extend(duplicate_labels(loaded))
     problems.extend(pore_water_problems(case, loaded))
     loaded.warnings.extend(plausibility_warnings(loaded))
+    loaded.warnings.extend(pore_water_warnings(case))
     if not problems:
         _check_memory(case, problems)
     if problems:

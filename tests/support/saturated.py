@@ -214,3 +214,37 @@ def undrained_wave_speed(h: float) -> dict:
             before[y] = (sim.time, p)
     speed = 0.5 / (arrive[1.0] - arrive[1.5])
     return {"h": h, "speed": speed, "exact": exact, "error": speed / exact - 1}
+
+
+def isotropic_undrained(h: float, L: float = 0.4, kw: float = 1e8, end: float = 0.04) -> dict:
+    """A sealed saturated cube of the stiff set (E = 98 MPa, nu = 0.3, n = 0.3, k = 1e-9 m/s) with K_w = kw,
+    on three impermeable slip walls (symmetry planes x = y = z = 0) and loaded by a pressure q on its three
+    other faces over 2 ms, brought to rest by local damping: the interior's pore pressure over the mean total
+    stress against Skempton's B = 1 / (1 + n K / K_w) (Skempton 1954, Geotechnique 4(4):143), K the
+    skeleton's bulk modulus. With kw = 1e8 Pa, B = 0.803, the oedometric ratio 0.716."""
+    E, nu, n, q = 98e6, 0.3, 0.3, 10e3
+    lo = [0.0, 0.0, 0.0]
+    case = {"name": "isotropic_b", "dimension": 3,
+            "grid": {"origin": lo, "extent": [L + 2 * h] * 3, "cell_size": h, "shape_function": "linear"},
+            "time": {"end": end}, "gravity": [0.0, 0.0, 0.0],
+            "materials": {"soil": {"model": "linear_elastic", "density": 2650.0, "youngs_modulus": E,
+                                   "poisson_ratio": nu,
+                                   "pore_water": {"porosity": n, "hydraulic_conductivity": 1e-9,
+                                                  "fluid": {"bulk_modulus": kw}}}},
+            "bodies": [{"material": "soil", "geometry": {"type": "box", "min": lo, "max": [L] * 3},
+                        "particles_per_cell": 2}],
+            "damping": [{"model": "local", "alpha": 0.3}],
+            "boundaries": [{"type": "wall", "side": s, "condition": "slip"} for s in ("x-", "y-", "z-")] + [
+                {"type": "surface_load", "name": f"load_{a}", "normal": [float(a == b) for b in range(3)],
+                 "region": {"min": [L / 2 if a == b else 0.0 for b in range(3)], "max": [L] * 3},
+                 "pressure": q, "ramp_time": 0.002} for a in range(3)]}
+    sim = Simulation(scene_from_dict(case))
+    st = sim.state
+    run_to(sim, end)
+    inner = np.all((st.p_x0 > h) & (st.p_x0 < L - 2 * h), axis=1)
+    p = float(st.p_pore[inner].mean())
+    mean_total = float(-(st.p_stress[inner, :3].sum(axis=1) / 3.0).mean()) + p
+    K = E / (3 * (1 - 2 * nu))
+    exact = 1 / (1 + n * K / kw)
+    return {"h": h, "B": p / mean_total, "B_exact": exact, "error": p / mean_total / exact - 1,
+            "load_error": mean_total / q - 1, "particles": int(inner.sum())}
