@@ -41,9 +41,10 @@ from geompm.kernels.stencil import SCHEMES
 from geompm.contract.stages import FAR_NODE
 from geompm.backend import cuda_kernels as K
 from geompm.backend import cuda_loops, cuda_sort
+from geompm.backend.cuda_twophase import SATURATED_ARRAYS, SaturatedCuda
 from geompm.backend.base import Backend
 
-#: the particle arrays that live on the device
+#: the particle arrays that live on the device (with saturated soil also cuda_twophase.SATURATED_ARRAYS)
 DEVICE_ARRAYS = ("p_x", "p_x0", "p_v", "p_C", "p_mass", "p_vol", "p_rho", "p_stress", "p_L")
 
 
@@ -99,12 +100,16 @@ class CudaBackend(Backend):
         self._dev_state: list = []
         self._tables: dict = {}  # (stage, pass) -> (its aux on the host, the device copy)
         self._on_host = True  # the host arrays are current; the next kernel uploads them
+        wet = scene.pore_water is not None
+        self.device_arrays = DEVICE_ARRAYS + (SATURATED_ARRAYS if wet else ())
+        #: the saturated soil's passes (backend/cuda_twophase.py), None for a dry scene
+        self.saturated = SaturatedCuda(self) if wet else None
 
     # -- host <-> device -------------------------------------------------------------------------------
     def _device(self) -> dict:
         if self._on_host:
             st = self.state
-            self._dev = {k: cuda.to_device(np.ascontiguousarray(getattr(st, k))) for k in DEVICE_ARRAYS}
+            self._dev = {k: cuda.to_device(np.ascontiguousarray(getattr(st, k))) for k in self.device_arrays}
             self._dev_state = [cuda.to_device(np.ascontiguousarray(sv)) for sv in st.p_state]
             self._on_host = False
         return self._dev
@@ -119,7 +124,8 @@ class CudaBackend(Backend):
         return self.state
 
     def nbytes(self) -> int:
-        return self.state.nbytes() + self.buffers.nbytes()
+        wet = 0 if self.saturated is None else self.saturated.nbytes()
+        return self.state.nbytes() + self.buffers.nbytes() + wet
 
     # -- the step ---------------------------------------------------------------------------------------
     def window(self):
@@ -189,11 +195,12 @@ class CudaBackend(Backend):
             if e > s:
                 K.speed_and_density[K.blocks(e - s), K.THREADS](dev["p_v"], dev["p_rho"], s, e, k, red)
         r = red.copy_to_host()
-        c = 0.0
+        laws = [0.0] * nb
         for k, (mat, (s, e)) in enumerate(zip(sc.materials, st.blocks)):
             if e > s:
                 wave = type(mat).particle_wave_speed
-                c = max(c, wave(mat.prm, -r[1 + 2 * k]), wave(mat.prm, r[2 + 2 * k]))
+                laws[k] = max(wave(mat.prm, -r[1 + 2 * k]), wave(mat.prm, r[2 + 2 * k]))
+        c = max(laws, default=0.0) if self.saturated is None else self.saturated.wave_speed(laws)
         speed = c + (float(r[0]) if st.n else 0.0)
         if self.max_rate is None:  # before the first step, after a restore: from the particles
             self.max_rate = max_rate(self.host_state().p_L) if st.n else 0.0
@@ -207,10 +214,10 @@ class CudaBackend(Backend):
             return
         dev = self._device()
         perm = cuda_sort.cell_order(dev["p_x"], self._origin, self.scene.grid.h, st.blocks)
-        for k in DEVICE_ARRAYS:
+        for k in self.device_arrays:
             dev[k] = cuda_sort.gather(dev[k], perm)
         self._dev_state = [cuda_sort.gather(sv, perm[s:e], s) for sv, (s, e) in zip(self._dev_state, st.blocks)]
-        st.reorder(perm.copy_to_host(), skip=DEVICE_ARRAYS, states=False)
+        st.reorder(perm.copy_to_host(), skip=self.device_arrays, states=False)
 
     # -- stages ------------------------------------------------------------------------------------------
     def _table(self, stage, kind: str, aux):

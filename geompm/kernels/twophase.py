@@ -56,20 +56,26 @@ def wet(row, sat, n):
     return sat if n <= row[N_MAX] else 0.0
 
 
+@njit(cache=True, inline="always")
+def prepare_one(p, p_stress, p_pore, p_n, p_sat, p_vol, p_material, table, p_total, p_wmass, p_drag):
+    """Particle p: the total stress sigma' - p I, the water mass and the drag coefficient D V."""
+    row = table[p_material[p]]
+    n = p_n[p]
+    s = wet(row, p_sat[p], n)
+    pp = s * p_pore[p]
+    for k in range(6):
+        p_total[p, k] = p_stress[p, k]
+    for k in range(3):
+        p_total[p, k] -= pp
+    p_wmass[p] = s * n * row[RHO_W] * p_vol[p]
+    p_drag[p] = s * n * n * row[MU_W] / permeability(row, n) * p_vol[p] if s > 0.0 else 0.0
+
+
 @njit(parallel=True, cache=True)
 def prepare(p_stress, p_pore, p_n, p_sat, p_vol, p_material, table, p_total, p_wmass, p_drag):
-    """Per particle: the total stress sigma' - p I, the water mass and the drag coefficient D V."""
+    """prepare_one over the particles."""
     for p in prange(p_stress.shape[0]):
-        row = table[p_material[p]]
-        n = p_n[p]
-        s = wet(row, p_sat[p], n)
-        pp = s * p_pore[p]
-        for k in range(6):
-            p_total[p, k] = p_stress[p, k]
-        for k in range(3):
-            p_total[p, k] -= pp
-        p_wmass[p] = s * n * row[RHO_W] * p_vol[p]
-        p_drag[p] = s * n * n * row[MU_W] / permeability(row, n) * p_vol[p] if s > 0.0 else 0.0
+        prepare_one(p, p_stress, p_pore, p_n, p_sat, p_vol, p_material, table, p_total, p_wmass, p_drag)
 
 
 @njit(cache=True, inline="always")
@@ -103,6 +109,13 @@ def node_index(b, lo, nloc, i, j, k, d):
     return ((b[0] + i - lo[0]) * nloc[1] + (b[1] + j - lo[1])) * nloc[2] + (b[2] + k - lo[2])
 
 
+@njit(cache=True, inline="always")
+def water_scalars_one(p, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material, table):
+    """Particle p's scalars in the water's P2G: (m_w, s n p V (its internal force per grad N), D V, V)."""
+    row = table[p_material[p]]
+    return (p_wmass[p], wet(row, p_sat[p], p_n[p]) * p_n[p] * p_pore[p] * p_vol[p], p_drag[p], p_vol[p])
+
+
 @njit(parallel=True, cache=True)
 def water_p2g(tag, p_x, p_vw, p_Cw, affine, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material, table,
               origin, h, kind, lo, nloc, c_grid, g_w):
@@ -125,9 +138,7 @@ def water_p2g(tag, p_x, p_vw, p_Cw, affine, p_wmass, p_drag, p_vol, p_n, p_pore,
         zero_rows(g, nn, width)
         for p in range(c * n // nchunks, (c + 1) * n // nchunks):
             b, wx, dx, wy, dy, wz, dz = particle_stencil(p_x, p, origin, kind, inv_h, d)
-            row = table[p_material[p]]
-            m = p_wmass[p]
-            npv = wet(row, p_sat[p], p_n[p]) * p_n[p] * p_pore[p] * p_vol[p]
+            m, npv, drag, vol = water_scalars_one(p, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material, table)
             q0 = m * p_vw[p, 0]
             q1 = m * p_vw[p, 1]
             q2 = m * p_vw[p, 2] if d == 3 else 0.0
@@ -142,8 +153,6 @@ def water_p2g(tag, p_x, p_vw, p_Cw, affine, p_wmass, p_drag, p_vol, p_n, p_pore,
                     c02, c12 = m * p_Cw[p, 0, 2], m * p_Cw[p, 1, 2]
                     c20, c21, c22 = m * p_Cw[p, 2, 0], m * p_Cw[p, 2, 1], m * p_Cw[p, 2, 2]
                     o2 = b[2] * h + origin[2] - p_x[p, 2]
-            drag = p_drag[p]
-            vol = p_vol[p]
             for i in range(S):
                 ex = o0 + i * h
                 for j in range(S):
@@ -174,45 +183,55 @@ def water_p2g(tag, p_x, p_vw, p_Cw, affine, p_wmass, p_drag, p_vol, p_n, p_pore,
                         g[idx, 2 + 2 * d] += wt * vol
 
 
+@njit(cache=True, inline="always")
+def node_mixture_one(i, g_mass, g_mom, g_w, mass_eps, g_rel):
+    """Node i: the mixture on the solid's arrays and the relative velocity before the step.  In: g_mass,
+    g_mom of the solid P2G (g_force, from the total stress, is already the mixture's internal force), g_w
+    of water_p2g.  Out: g_rel <- w = v_w - v_s, g_mass <- m_s + m_w, g_mom <- m_s v_s + m_w v_w."""
+    d = g_mom.shape[1]
+    ms = g_mass[i]
+    mw = g_w[i, 0]
+    for a in range(d):
+        g_rel[i, a] = g_w[i, 1 + a] / mw - g_mom[i, a] / ms if ms > mass_eps and mw > mass_eps else 0.0
+        g_mom[i, a] += g_w[i, 1 + a]
+    g_mass[i] = ms + mw
+
+
 @njit(parallel=True, cache=True)
 def node_mixture(g_mass, g_mom, g_w, mass_eps, g_rel):
-    """The mixture on the solid's arrays and the relative velocity before the step.  In: g_mass, g_mom of
-    the solid P2G (g_force, from the total stress, is already the mixture's internal force), g_w of
-    water_p2g.  Out: g_rel <- w = v_w - v_s, g_mass <- m_s + m_w, g_mom <- m_s v_s + m_w v_w."""
-    nn, d = g_mom.shape
-    for i in prange(nn):
-        ms = g_mass[i]
-        mw = g_w[i, 0]
-        for a in range(d):
-            g_rel[i, a] = g_w[i, 1 + a] / mw - g_mom[i, a] / ms if ms > mass_eps and mw > mass_eps else 0.0
-            g_mom[i, a] += g_w[i, 1 + a]
-        g_mass[i] = ms + mw
+    for i in prange(g_mom.shape[0]):
+        node_mixture_one(i, g_mass, g_mom, g_w, mass_eps, g_rel)
 
 
-@njit(parallel=True, cache=True)
-def node_relative(g_mass, g_vel, g_vel_old, g_w, gravity, dt, mass_eps, g_rel, g_rel0):
-    """The relative velocity after the step, w' = v_w' - v_s', drag implicit, from the mixture's
+@njit(cache=True, inline="always")
+def node_relative_one(i, g_mass, g_vel, g_vel_old, g_w, gravity, dt, mass_eps, g_rel, g_rel0):
+    """Node i: the relative velocity after the step, w' = v_w' - v_s', drag implicit, from the mixture's
     acceleration a = (v' - v) / dt once gravity, the loads and the damping have acted on it (g_vel,
     g_vel_old) and the water's own force (m_w a_w = F_w + m_w g - c w'):
 
         w' (m_s m_w + dt c M) = m_s m_w w + dt M (F_w + m_w (g - a)),   M = m_s + m_w
     """
-    nn, d = g_vel.shape
-    for i in prange(nn):
-        big = g_mass[i]
-        mw = g_w[i, 0]
-        ms = big - mw
+    d = g_vel.shape[1]
+    big = g_mass[i]
+    mw = g_w[i, 0]
+    ms = big - mw
+    for a in range(d):
+        g_rel0[i, a] = g_rel[i, a]
+    if ms > mass_eps and mw > mass_eps:
+        den = ms * mw + dt * g_w[i, 1 + 2 * d] * big
         for a in range(d):
-            g_rel0[i, a] = g_rel[i, a]
-        if ms > mass_eps and mw > mass_eps:
-            den = ms * mw + dt * g_w[i, 1 + 2 * d] * big
-            for a in range(d):
-                acc = (g_vel[i, a] - g_vel_old[i, a]) / dt
-                rhs = ms * mw * g_rel[i, a] + dt * big * (g_w[i, 1 + d + a] + mw * (gravity[a] - acc))
-                g_rel[i, a] = rhs / den
-        else:
-            for a in range(d):
-                g_rel[i, a] = 0.0
+            acc = (g_vel[i, a] - g_vel_old[i, a]) / dt
+            rhs = ms * mw * g_rel[i, a] + dt * big * (g_w[i, 1 + d + a] + mw * (gravity[a] - acc))
+            g_rel[i, a] = rhs / den
+    else:
+        for a in range(d):
+            g_rel[i, a] = 0.0
+
+
+@njit(parallel=True, cache=True)
+def node_relative(g_mass, g_vel, g_vel_old, g_w, gravity, dt, mass_eps, g_rel, g_rel0):
+    for i in prange(g_vel.shape[0]):
+        node_relative_one(i, g_mass, g_vel, g_vel_old, g_w, gravity, dt, mass_eps, g_rel, g_rel0)
 
 
 @njit(cache=True)
@@ -282,10 +301,10 @@ def node_fill(g_w, walls, origin, h, lo, nloc, cell_volume, g_fill):
         g_fill[i] = one_node_fill(i, g_w, walls, origin, h, lo, nloc, d, cell_volume)
 
 
-@njit(parallel=True, cache=True)
-def node_split(g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, walls, origin, h, lo, nloc, gravity, dt, mass_eps,
-               g_vw):
-    """Solid and water velocities from the mixture's after the stages (g_vel, in place -> the solid's;
+@njit(cache=True, inline="always")
+def node_split_one(i, g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, walls, origin, h, lo, nloc, gravity, dt, mass_eps,
+                   g_vw):
+    """Node i: solid and water velocities from the mixture's after the stages (g_vel, in place -> the solid's;
     g_vw <- the water's).
 
     ``walls`` rows (docs/pore-water.md): point (3), unit normal into the material (3), layer [m], drained.
@@ -296,139 +315,152 @@ def node_split(g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, walls, origin, h, lo, 
     elsewhere (an obstacle) both phases take the stage's velocity. g_rel0: the relative velocity before
     the step.
     """
-    nn, d = g_vel.shape
+    d = g_vel.shape[1]
     nw = walls.shape[0]
-    for i in prange(nn):
-        big = g_mass[i]
-        if big <= mass_eps:
-            for a in range(d):
-                g_vw[i, a] = 0.0
-            continue
-        ix, iy, iz = node_of(i, lo, nloc, d)
-        w0 = g_rel[i, 0]
-        w1 = g_rel[i, 1]
-        w2 = g_rel[i, 2] if d == 3 else 0.0
-        bound = False
-        drained = False
-        t0 = t1 = t2 = 0.0  # the part of w tangential to a drained wall
-        for k in range(nw):
-            dist = (origin[0] + ix * h - walls[k, 0]) * walls[k, 3] + (origin[1] + iy * h - walls[k, 1]) * walls[k, 4]
-            if d == 3:
-                dist += (origin[2] + iz * h - walls[k, 2]) * walls[k, 5]
-            if dist <= walls[k, 6]:
-                bound = True
-                wn = w0 * walls[k, 3] + w1 * walls[k, 4] + w2 * walls[k, 5]
-                if walls[k, 7] > 0.0:
-                    drained = True
-                    mw = g_w[i, 0]
-                    old = g_rel0[i, 0] * walls[k, 3] + g_rel0[i, 1] * walls[k, 4]
-                    push = (g_w[i, 1 + d] + mw * gravity[0]) * walls[k, 3] + (g_w[i, 2 + d] + mw * gravity[1]) * walls[k, 4]
-                    if d == 3:
-                        old += g_rel0[i, 2] * walls[k, 5]
-                        push += (g_w[i, 3 + d] + mw * gravity[2]) * walls[k, 5]
-                    held = (mw * old + dt * push) / (mw + dt * g_w[i, 1 + 2 * d]) if mw > mass_eps else 0.0
-                    t0, t1, t2 = w0 - wn * walls[k, 3], w1 - wn * walls[k, 4], w2 - wn * walls[k, 5]
-                    w0, w1, w2 = t0 + held * walls[k, 3], t1 + held * walls[k, 4], t2 + held * walls[k, 5]
-                else:
-                    w0 -= wn * walls[k, 3]
-                    w1 -= wn * walls[k, 4]
-                    w2 -= wn * walls[k, 5]
-        changed = False
+    big = g_mass[i]
+    if big <= mass_eps:
         for a in range(d):
-            if g_vel[i, a] != g_vpre[i, a]:
-                changed = True
-        if changed and not bound:
-            w0 = w1 = w2 = 0.0
-        mw = g_w[i, 0]
-        fw = mw / big
-        fs = 1.0 - fw
-        if drained:
-            g_vel[i, 0] -= fw * t0
-            g_vel[i, 1] -= fw * t1
-            g_vw[i, 0] = g_vel[i, 0] + w0
-            g_vw[i, 1] = g_vel[i, 1] + w1
-            if d == 3:
-                g_vel[i, 2] -= fw * t2
-                g_vw[i, 2] = g_vel[i, 2] + w2
-        else:
-            g_vw[i, 0] = g_vel[i, 0] + fs * w0
-            g_vw[i, 1] = g_vel[i, 1] + fs * w1
-            g_vel[i, 0] -= fw * w0
-            g_vel[i, 1] -= fw * w1
-            if d == 3:
-                g_vw[i, 2] = g_vel[i, 2] + fs * w2
-                g_vel[i, 2] -= fw * w2
+            g_vw[i, a] = 0.0
+        return
+    ix, iy, iz = node_of(i, lo, nloc, d)
+    w0 = g_rel[i, 0]
+    w1 = g_rel[i, 1]
+    w2 = g_rel[i, 2] if d == 3 else 0.0
+    bound = False
+    drained = False
+    t0 = t1 = t2 = 0.0  # the part of w tangential to a drained wall
+    for k in range(nw):
+        dist = (origin[0] + ix * h - walls[k, 0]) * walls[k, 3] + (origin[1] + iy * h - walls[k, 1]) * walls[k, 4]
+        if d == 3:
+            dist += (origin[2] + iz * h - walls[k, 2]) * walls[k, 5]
+        if dist <= walls[k, 6]:
+            bound = True
+            wn = w0 * walls[k, 3] + w1 * walls[k, 4] + w2 * walls[k, 5]
+            if walls[k, 7] > 0.0:
+                drained = True
+                mw = g_w[i, 0]
+                old = g_rel0[i, 0] * walls[k, 3] + g_rel0[i, 1] * walls[k, 4]
+                push = (g_w[i, 1 + d] + mw * gravity[0]) * walls[k, 3] + (g_w[i, 2 + d] + mw * gravity[1]) * walls[k, 4]
+                if d == 3:
+                    old += g_rel0[i, 2] * walls[k, 5]
+                    push += (g_w[i, 3 + d] + mw * gravity[2]) * walls[k, 5]
+                held = (mw * old + dt * push) / (mw + dt * g_w[i, 1 + 2 * d]) if mw > mass_eps else 0.0
+                t0, t1, t2 = w0 - wn * walls[k, 3], w1 - wn * walls[k, 4], w2 - wn * walls[k, 5]
+                w0, w1, w2 = t0 + held * walls[k, 3], t1 + held * walls[k, 4], t2 + held * walls[k, 5]
+            else:
+                w0 -= wn * walls[k, 3]
+                w1 -= wn * walls[k, 4]
+                w2 -= wn * walls[k, 5]
+    changed = False
+    for a in range(d):
+        if g_vel[i, a] != g_vpre[i, a]:
+            changed = True
+    if changed and not bound:
+        w0 = w1 = w2 = 0.0
+    mw = g_w[i, 0]
+    fw = mw / big
+    fs = 1.0 - fw
+    if drained:
+        g_vel[i, 0] -= fw * t0
+        g_vel[i, 1] -= fw * t1
+        g_vw[i, 0] = g_vel[i, 0] + w0
+        g_vw[i, 1] = g_vel[i, 1] + w1
+        if d == 3:
+            g_vel[i, 2] -= fw * t2
+            g_vw[i, 2] = g_vel[i, 2] + w2
+    else:
+        g_vw[i, 0] = g_vel[i, 0] + fs * w0
+        g_vw[i, 1] = g_vel[i, 1] + fs * w1
+        g_vel[i, 0] -= fw * w0
+        g_vel[i, 1] -= fw * w1
+        if d == 3:
+            g_vw[i, 2] = g_vel[i, 2] + fs * w2
+            g_vel[i, 2] -= fw * w2
+
+
+@njit(parallel=True, cache=True)
+def node_split(g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, walls, origin, h, lo, nloc, gravity, dt, mass_eps,
+               g_vw):
+    for i in prange(g_vel.shape[0]):
+        node_split_one(i, g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, walls, origin, h, lo, nloc, gravity, dt,
+                       mass_eps, g_vw)
+
+
+@njit(cache=True, inline="always")
+def water_g2p_one(p, S, p_x, p_vw, p_Cw, affine, apic_dinv, p_divw, p_divs, p_fill, g_vw, g_vs, g_fill, origin, h,
+                  kind, lo, nloc):
+    """Particle p (S nodes per axis): the water's particle velocity, its affine matrix (with ``affine``: C_w = B_w D^-1 as the solid's
+    APIC, B_w = sum N v_wI (x_I - x_p)^T, or the velocity gradient for linear hats, apic_dinv = 0), the
+    divergences of the water's and the solid's velocities at the particle and the node fill interpolated
+    (at the particles' positions before they move)."""
+    d = p_x.shape[1]
+    inv_h = 1.0 / h
+    Sz = S if d == 3 else 1
+    b, wx, dx, wy, dy, wz, dz = particle_stencil(p_x, p, origin, kind, inv_h, d)
+    v0 = v1 = v2 = div = divs = fill = 0.0
+    # A[a, e] = sum v_a (x_I - x_p)_e (APIC) or sum v_a dN/dx_e (linear hats)
+    a00 = a01 = a02 = a10 = a11 = a12 = a20 = a21 = a22 = 0.0
+    o0 = b[0] * h + origin[0] - p_x[p, 0]
+    o1 = b[1] * h + origin[1] - p_x[p, 1]
+    o2 = b[2] * h + origin[2] - p_x[p, 2] if d == 3 else 0.0
+    for i in range(S):
+        for j in range(S):
+            wij = wx[i] * wy[j]
+            dxj = dx[i] * wy[j]
+            dyj = wx[i] * dy[j]
+            for k in range(Sz):
+                wt = wij * wz[k]
+                idx = node_index(b, lo, nloc, i, j, k, d)
+                gx = dxj * wz[k]
+                gy = dyj * wz[k]
+                gz = wij * dz[k] if d == 3 else 0.0
+                u0 = g_vw[idx, 0]
+                u1 = g_vw[idx, 1]
+                u2 = g_vw[idx, 2] if d == 3 else 0.0
+                v0 += wt * u0
+                v1 += wt * u1
+                v2 += wt * u2
+                div += gx * u0 + gy * u1 + gz * u2
+                divs += gx * g_vs[idx, 0] + gy * g_vs[idx, 1]
+                if d == 3:
+                    divs += gz * g_vs[idx, 2]
+                fill += wt * g_fill[idx]
+                if affine:
+                    if apic_dinv > 0.0:
+                        e0, e1, e2 = wt * (o0 + i * h), wt * (o1 + j * h), wt * (o2 + k * h)
+                    else:
+                        e0, e1, e2 = gx, gy, gz
+                    a00 += u0 * e0
+                    a01 += u0 * e1
+                    a02 += u0 * e2
+                    a10 += u1 * e0
+                    a11 += u1 * e1
+                    a12 += u1 * e2
+                    a20 += u2 * e0
+                    a21 += u2 * e1
+                    a22 += u2 * e2
+    p_vw[p, 0] = v0
+    p_vw[p, 1] = v1
+    if d == 3:
+        p_vw[p, 2] = v2
+    if affine:
+        f = apic_dinv if apic_dinv > 0.0 else 1.0
+        p_Cw[p, 0, 0], p_Cw[p, 0, 1], p_Cw[p, 1, 0], p_Cw[p, 1, 1] = f * a00, f * a01, f * a10, f * a11
+        if d == 3:
+            p_Cw[p, 0, 2], p_Cw[p, 1, 2] = f * a02, f * a12
+            p_Cw[p, 2, 0], p_Cw[p, 2, 1], p_Cw[p, 2, 2] = f * a20, f * a21, f * a22
+    p_divw[p] = div
+    p_divs[p] = divs
+    p_fill[p] = fill
 
 
 @njit(parallel=True, cache=True)
 def water_g2p(tag, p_x, p_vw, p_Cw, affine, apic_dinv, p_divw, p_divs, p_fill, g_vw, g_vs, g_fill, origin, h,
               kind, lo, nloc):
-    """The water's particle velocity, its affine matrix (with ``affine``: C_w = B_w D^-1 as the solid's
-    APIC, B_w = sum N v_wI (x_I - x_p)^T, or the velocity gradient for linear hats, apic_dinv = 0), the
-    divergences of the water's and the solid's velocities at the particle and the node fill interpolated
-    (at the particles' positions before they move)."""
-    n = p_x.shape[0]
-    d = p_x.shape[1]
     S = len(tag)
-    inv_h = 1.0 / h
-    Sz = S if d == 3 else 1
-    for p in prange(n):
-        b, wx, dx, wy, dy, wz, dz = particle_stencil(p_x, p, origin, kind, inv_h, d)
-        v0 = v1 = v2 = div = divs = fill = 0.0
-        # A[a, e] = sum v_a (x_I - x_p)_e (APIC) or sum v_a dN/dx_e (linear hats)
-        a00 = a01 = a02 = a10 = a11 = a12 = a20 = a21 = a22 = 0.0
-        o0 = b[0] * h + origin[0] - p_x[p, 0]
-        o1 = b[1] * h + origin[1] - p_x[p, 1]
-        o2 = b[2] * h + origin[2] - p_x[p, 2] if d == 3 else 0.0
-        for i in range(S):
-            for j in range(S):
-                wij = wx[i] * wy[j]
-                dxj = dx[i] * wy[j]
-                dyj = wx[i] * dy[j]
-                for k in range(Sz):
-                    wt = wij * wz[k]
-                    idx = node_index(b, lo, nloc, i, j, k, d)
-                    gx = dxj * wz[k]
-                    gy = dyj * wz[k]
-                    gz = wij * dz[k] if d == 3 else 0.0
-                    u0 = g_vw[idx, 0]
-                    u1 = g_vw[idx, 1]
-                    u2 = g_vw[idx, 2] if d == 3 else 0.0
-                    v0 += wt * u0
-                    v1 += wt * u1
-                    v2 += wt * u2
-                    div += gx * u0 + gy * u1 + gz * u2
-                    divs += gx * g_vs[idx, 0] + gy * g_vs[idx, 1]
-                    if d == 3:
-                        divs += gz * g_vs[idx, 2]
-                    fill += wt * g_fill[idx]
-                    if affine:
-                        if apic_dinv > 0.0:
-                            e0, e1, e2 = wt * (o0 + i * h), wt * (o1 + j * h), wt * (o2 + k * h)
-                        else:
-                            e0, e1, e2 = gx, gy, gz
-                        a00 += u0 * e0
-                        a01 += u0 * e1
-                        a02 += u0 * e2
-                        a10 += u1 * e0
-                        a11 += u1 * e1
-                        a12 += u1 * e2
-                        a20 += u2 * e0
-                        a21 += u2 * e1
-                        a22 += u2 * e2
-        p_vw[p, 0] = v0
-        p_vw[p, 1] = v1
-        if d == 3:
-            p_vw[p, 2] = v2
-        if affine:
-            f = apic_dinv if apic_dinv > 0.0 else 1.0
-            p_Cw[p, 0, 0], p_Cw[p, 0, 1], p_Cw[p, 1, 0], p_Cw[p, 1, 1] = f * a00, f * a01, f * a10, f * a11
-            if d == 3:
-                p_Cw[p, 0, 2], p_Cw[p, 1, 2] = f * a02, f * a12
-                p_Cw[p, 2, 0], p_Cw[p, 2, 1], p_Cw[p, 2, 2] = f * a20, f * a21, f * a22
-        p_divw[p] = div
-        p_divs[p] = divs
-        p_fill[p] = fill
+    for p in prange(p_x.shape[0]):
+        water_g2p_one(p, S, p_x, p_vw, p_Cw, affine, apic_dinv, p_divw, p_divs, p_fill, g_vw, g_vs, g_fill, origin,
+                      h, kind, lo, nloc)
 
 
 @njit(cache=True, inline="always")
@@ -438,43 +470,61 @@ def drained(row, sat, n, fill):
     return wet(row, sat, n) == 0.0 or fill < FREE_SURFACE_FILL
 
 
+@njit(cache=True, inline="always")
+def porosity_one(p, p_n, p_vol, p_vol0, p_material, table):
+    """n = 1 - (1 - n0) V0 / V from particle p's skeleton volume after the step."""
+    row = table[p_material[p]]
+    if row[N0] > 0.0:
+        p_n[p] = max(1.0 - (1.0 - row[N0]) * p_vol0[p] / p_vol[p], 1e-6)
+
+
 @njit(parallel=True, cache=True)
 def porosity_update(p_n, p_vol, p_vol0, p_material, table):
-    """n = 1 - (1 - n0) V0 / V from the skeleton's volume after the step."""
     for p in prange(p_n.shape[0]):
-        row = table[p_material[p]]
-        if row[N0] > 0.0:
-            p_n[p] = max(1.0 - (1.0 - row[N0]) * p_vol0[p] / p_vol[p], 1e-6)
+        porosity_one(p, p_n, p_vol, p_vol0, p_material, table)
+
+
+@njit(cache=True, inline="always")
+def speed_terms_one(p, p_v, p_vw, p_n, p_rho, p_sat, row):
+    """Particle p's terms of the stable step: (its porosity where it holds water, else 1; its dry density;
+    its saturated density; the larger squared speed of its two phases)."""
+    d = p_v.shape[1]
+    s = wet(row, p_sat[p], p_n[p])
+    vs = 0.0
+    vw = 0.0
+    for a in range(d):
+        vs += p_v[p, a] * p_v[p, a]
+        vw += p_vw[p, a] * p_vw[p, a]
+    return p_n[p] if s > 0.0 else 1.0, p_rho[p], p_rho[p] + s * p_n[p] * row[RHO_W], max(vs, vw)
 
 
 @njit(parallel=True, cache=True)
 def speed_bounds(p_v, p_vw, p_n, p_rho, p_sat, row, start, end):
     """Over the particles start..end of one material (row: its table row): (min n of the wet particles, 1
     if none; max dry density; min saturated density; max |v| of either phase), for the stable step."""
-    d = p_v.shape[1]
     n_min = 1.0
     rho_max = 0.0
     sat_min = math.inf
     v2_max = 0.0
     for p in prange(start, end):
-        s = wet(row, p_sat[p], p_n[p])
-        n_min = min(n_min, p_n[p] if s > 0.0 else 1.0)
-        rho_max = max(rho_max, p_rho[p])
-        sat_min = min(sat_min, p_rho[p] + s * p_n[p] * row[RHO_W])
-        vs = 0.0
-        vw = 0.0
-        for a in range(d):
-            vs += p_v[p, a] * p_v[p, a]
-            vw += p_vw[p, a] * p_vw[p, a]
-        v2_max = max(v2_max, max(vs, vw))
+        n, rho, sat, v2 = speed_terms_one(p, p_v, p_vw, p_n, p_rho, p_sat, row)
+        n_min = min(n_min, n)
+        rho_max = max(rho_max, rho)
+        sat_min = min(sat_min, sat)
+        v2_max = max(v2_max, v2)
     return n_min, rho_max, sat_min, math.sqrt(v2_max)
+
+
+@njit(cache=True, inline="always")
+def flag_drained_one(p, p_fill, p_sat, p_n, p_material, table, p_drained):
+    """p_drained[p] = 1 where particle p holds no pore pressure (``drained``), 0 where it holds one."""
+    p_drained[p] = 1.0 if drained(table[p_material[p]], p_sat[p], p_n[p], p_fill[p]) else 0.0
 
 
 @njit(parallel=True, cache=True)
 def flag_drained(p_fill, p_sat, p_n, p_material, table, p_drained):
-    """p_drained = 1 where the particle holds no pore pressure (``drained``), 0 where it holds one."""
     for p in prange(p_fill.shape[0]):
-        p_drained[p] = 1.0 if drained(table[p_material[p]], p_sat[p], p_n[p], p_fill[p]) else 0.0
+        flag_drained_one(p, p_fill, p_sat, p_n, p_material, table, p_drained)
 
 
 @njit(parallel=True, cache=True)
@@ -515,31 +565,48 @@ def grid_smooth(tag, p_x, p_val, p_drained, p_vol, origin, h, kind, lo, nloc, c_
             vp += c_grid[c, i, 1]
         g_p[i] = vp / v if v > 0.0 else 0.0
     for p in prange(n):
-        if p_drained[p] != 0.0:
-            p_out[p] = 0.0
-            continue
-        b, wx, dx, wy, dy, wz, dz = particle_stencil(p_x, p, origin, kind, inv_h, d)
-        s = 0.0
-        for i in range(S):
-            for j in range(S):
-                wij = wx[i] * wy[j]
-                for k in range(Sz):
-                    s += wij * wz[k] * g_p[node_index(b, lo, nloc, i, j, k, d)]
-        p_out[p] = s
+        smooth_gather_one(p, S, p_x, p_drained, g_p, origin, h, kind, lo, nloc, p_out)
+
+
+@njit(cache=True, inline="always")
+def smooth_gather_one(p, S, p_x, p_drained, g_p, origin, h, kind, lo, nloc, p_out):
+    """p_out[p] = sum_I N_I g_p[I] (0 where particle p is drained): the gather of grid_smooth."""
+    if p_drained[p] != 0.0:
+        p_out[p] = 0.0
+        return
+    d = p_x.shape[1]
+    Sz = S if d == 3 else 1
+    b, wx, dx, wy, dy, wz, dz = particle_stencil(p_x, p, origin, kind, 1.0 / h, d)
+    s = 0.0
+    for i in range(S):
+        for j in range(S):
+            wij = wx[i] * wy[j]
+            for k in range(Sz):
+                s += wij * wz[k] * g_p[node_index(b, lo, nloc, i, j, k, d)]
+    p_out[p] = s
+
+
+@njit(cache=True, inline="always")
+def pressure_increment_one(p, p_dp, p_divw, p_divs, p_n, p_material, table, dt):
+    """Particle p: the water's mass balance, dp = -dt K_w / n [(1 - n) div v_s + n div v_w], before it moves."""
+    row = table[p_material[p]]
+    n = p_n[p]
+    p_dp[p] = -dt * row[K_W] / n * ((1.0 - n) * p_divs[p] + n * p_divw[p]) if n > 0.0 else 0.0
 
 
 @njit(parallel=True, cache=True)
 def pressure_increment(p_dp, p_divw, p_divs, p_n, p_material, table, dt):
-    """The water's mass balance, dp = -dt K_w / n [(1 - n) div v_s + n div v_w], at the particles before they
-    move."""
     for p in prange(p_dp.shape[0]):
-        row = table[p_material[p]]
-        nn_ = p_n[p]
-        p_dp[p] = -dt * row[K_W] / nn_ * ((1.0 - nn_) * p_divs[p] + nn_ * p_divw[p]) if nn_ > 0.0 else 0.0
+        pressure_increment_one(p, p_dp, p_divw, p_divs, p_n, p_material, table, dt)
+
+
+@njit(cache=True, inline="always")
+def add_increment_one(p, p_pore, p_dp, p_drained):
+    """p += dp where particle p holds pressure; p = 0 where it is drained."""
+    p_pore[p] = 0.0 if p_drained[p] != 0.0 else p_pore[p] + p_dp[p]
 
 
 @njit(parallel=True, cache=True)
 def add_increment(p_pore, p_dp, p_drained):
-    """p += dp where the particle holds pressure; p = 0 where it is drained."""
     for p in prange(p_pore.shape[0]):
-        p_pore[p] = 0.0 if p_drained[p] != 0.0 else p_pore[p] + p_dp[p]
+        add_increment_one(p, p_pore, p_dp, p_drained)

@@ -3,7 +3,7 @@
 Refused, each with its JSON path: a fluid law with pore water (a fluid has no skeleton whose effective
 stress the water could share); neither or both of hydraulic_conductivity and intrinsic_permeability; a
 body's ``pore_pressure`` on a dry material; a water table without gravity or above the grid; and the
-settings the two-phase step does not implement (MUSL, FLIP, periodic axes, the CUDA backend), each with
+settings the two-phase step does not implement (MUSL, FLIP, periodic axes), each with
 what to use instead (docs/pore-water.md, Limits).
 """
 
@@ -93,8 +93,6 @@ def _unsupported(case, loaded) -> list[tuple[str, str]]:
         out.append(("solver.update", f"'{case.solver.update}' {why}; use \"usl\""))
     if case.solver.transfer == "flip":
         out.append(("solver.transfer", f"'flip' {why}; use \"apic\", \"mls\" or \"pic\""))
-    if case.solver.backend != "cpu":
-        out.append(("solver.backend", f"'{case.solver.backend}' {why}; use \"cpu\""))
     for r in loaded.boundaries + loaded.obstacles + loaded.damping:
         if r.cls.phase == MERGE:
             out.append((r.path, f"'{r.cls.name}' merges grid nodes (a periodic axis), which {why}; use walls"))

@@ -140,6 +140,15 @@ def scenes(folder: Path) -> dict:
         "elastic_apic_quadratic_usl_tiled_p2g_float32": case2d(law("linear_elastic"), {"p2g": "tiled",
                                                                                      "precision": "float32"},
                                                              velocity=[1.0, 0.0]),
+        # saturated soil (backend/cuda_twophase.py): an impermeable friction floor, a drained slip wall, the
+        # pressure seen through the grid, the water's APIC matrix, the device sort of its arrays
+        "saturated_drucker_prager": case2d(
+            law("drucker_prager", pore_water={"porosity": 0.4, "hydraulic_conductivity": 1e-3,
+                                              "fluid": {"bulk_modulus": 2e7}}),
+            {"sort_interval": 1}, boundaries=[
+                {"type": "wall", "side": "y-", "condition": "friction", "friction": 0.4},
+                {"type": "wall", "side": "x-", "condition": "slip", "drainage": "drained"}],
+            velocity=[-1.0, 0.0], box=((0.0, 0.0), (0.3, 0.3))),
         "newtonian_3d_terrain_guard": dict(case3d(law("newtonian"), folder, obstacles=[
             {"type": "terrain", "name": "ground", "dem": terrain_dem(folder), "friction": 0.3}], terrain=True),
             parity_place=[0.35, 0.2, 0.10]),
@@ -160,7 +169,8 @@ def floors(case: dict) -> dict:
     h = case["grid"]["cell_size"]
     g = float(np.linalg.norm(case["gravity"]))
     rho = max(m["density"] for m in case["materials"].values())
-    return {"p_x": h, "p_v": g * 0.01, "p_stress": rho * g * h, "p_rho": rho}
+    return {"p_x": h, "p_v": g * 0.01, "p_stress": rho * g * h, "p_rho": rho, "p_pore": 1000.0 * g * h,
+            "p_vw": g * 0.01}
 
 
 def run(case: dict, backend: str, steps: int, folder: Path):
@@ -180,7 +190,8 @@ def run(case: dict, backend: str, steps: int, folder: Path):
     rows[-1].update({f"{s.label}_max_depth": s.max_depth for s in sim.particle_stages if hasattr(s, "max_depth")})
     st = sim.state
     order = np.argsort(st.p_id)
-    fields = {k: getattr(st, k)[order].astype(np.float64) for k in ("p_x", "p_v", "p_stress", "p_rho")}
+    names = ("p_x", "p_v", "p_stress", "p_rho") + (("p_pore", "p_vw") if st.p_pore is not None else ())
+    fields = {k: getattr(st, k)[order].astype(np.float64) for k in names}
     return fields, rows, sim, wall
 
 
