@@ -6,8 +6,8 @@
 # network with `sh benchmarks/device/fetch_wheels.sh`, about 47 MB, and carry it: the device tool's
 # `carry: ["benchmarks/device/wheels"]`).  Then it prints the GPU,
 # benchmarks fluid3d and dp3d on the cuda backend at 64, 128 and 256 cells per side (204k, 1.6M, 13M
-# particles), float32 and float64 (solver.precision), the tiled P2G at 128 and 256 (solver.p2g), checks CPU
-# against CUDA on cases/dam_break.json after 200 steps and on the tiny scenes (every law and stage, the device
+# particles), float32 and float64 (solver.precision), the tiled P2G at 128 and 256 (solver.p2g), benchmarks saturated3d
+# (saturated soil) at 64, checks CPU against CUDA on cases/dam_break.json and the saturated scene after 200 steps and on the tiny scenes (every law and stage, the device
 # sort, a checkpoint across backends, two float32 scenes), and ends in under 8 minutes (one deadline, below).  Everything it prints is also written to OUTDIR/gpu_check.log.
 set -u
 out=${1:-${OUT:-benchmarks/results}}
@@ -48,6 +48,9 @@ here=$(cd "$(dirname "$0")" && pwd)
   for p in float32 float64; do bench 35 64 $p 50 --scene fluid3d --scene dp3d; done
   bench 60 256 float32 10 --scene fluid3d --set solver.p2g=tiled
   bench 60 128 float32 30 --scene dp3d --set solver.p2g=tiled
+  # saturated soil (backend/cuda_twophase.py): the bench scene and its CPU parity after 200 steps
+  bench 60 64 float64 30 --scene saturated3d --scene dp3d
+  step 60 python3 tests/cuda/cuda_parity.py --steps 200 saturated_drucker_prager
   # every law and stage on the GPU against the CPU, with what is left (both sides compile cold here)
   step 120 python3 tests/cuda/cuda_parity.py --steps 3
   date -u
