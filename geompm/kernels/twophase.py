@@ -403,8 +403,13 @@ def water_g2p_one(p, S, p_x, p_vw, p_Cw, affine, apic_dinv, p_divw, p_divs, p_fi
     o0 = b[0] * h + origin[0] - p_x[p, 0]
     o1 = b[1] * h + origin[1] - p_x[p, 1]
     o2 = b[2] * h + origin[2] - p_x[p, 2] if d == 3 else 0.0
+    # the affine sums without a branch per node: e = apic wt (x_I - x_p) + grad grad N
+    apic = 1.0 if affine and apic_dinv > 0.0 else 0.0
+    grad = 1.0 if affine and apic_dinv <= 0.0 else 0.0
     for i in range(S):
+        ex = apic * (o0 + i * h)
         for j in range(S):
+            ey = apic * (o1 + j * h)
             wij = wx[i] * wy[j]
             dxj = dx[i] * wy[j]
             dyj = wx[i] * dy[j]
@@ -425,20 +430,18 @@ def water_g2p_one(p, S, p_x, p_vw, p_Cw, affine, apic_dinv, p_divw, p_divs, p_fi
                 if d == 3:
                     divs += gz * g_vs[idx, 2]
                 fill += wt * g_fill[idx]
-                if affine:
-                    if apic_dinv > 0.0:
-                        e0, e1, e2 = wt * (o0 + i * h), wt * (o1 + j * h), wt * (o2 + k * h)
-                    else:
-                        e0, e1, e2 = gx, gy, gz
-                    a00 += u0 * e0
-                    a01 += u0 * e1
-                    a02 += u0 * e2
-                    a10 += u1 * e0
-                    a11 += u1 * e1
-                    a12 += u1 * e2
-                    a20 += u2 * e0
-                    a21 += u2 * e1
-                    a22 += u2 * e2
+                e0 = wt * ex + grad * gx
+                e1 = wt * ey + grad * gy
+                e2 = wt * apic * (o2 + k * h) + grad * gz
+                a00 += u0 * e0
+                a01 += u0 * e1
+                a02 += u0 * e2
+                a10 += u1 * e0
+                a11 += u1 * e1
+                a12 += u1 * e2
+                a20 += u2 * e0
+                a21 += u2 * e1
+                a22 += u2 * e2
     p_vw[p, 0] = v0
     p_vw[p, 1] = v1
     if d == 3:
