@@ -52,6 +52,14 @@ def _axis(xi, kind, inv_h, w, dw):
 
 
 @cuda.jit(device=True)
+def _axes(p, p_x, origin, h, kind, w, dw, base):
+    """Particle p's weights and derivatives along each axis into w[a], dw[a] and its first nodes into base."""
+    inv_h = 1.0 / h
+    for a in range(p_x.shape[1]):
+        base[a] = _axis((p_x[p, a] - origin[a]) * inv_h, kind, inv_h, w[a], dw[a])
+
+
+@cuda.jit(device=True)
 def _voigt(a, b):
     """Voigt column of the tensor entry (a, b): xx yy zz xy yz xz (kernels/voigt.py)."""
     if a == b:
@@ -140,9 +148,7 @@ def p2g(S, mode, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nl
     gw = cuda.local.array(3, float64)
     dx = cuda.local.array(3, float64)
     val = cuda.local.array(7, float64)
-    inv_h = 1.0 / h
-    for a in range(d):
-        base[a] = _axis((p_x[p, a] - origin[a]) * inv_h, kind, inv_h, w[a], dw[a])
+    _axes(p, p_x, origin, h, kind, w, dw, base)
     m = p_mass[p]
     nv = -p_vol[p] * f_scale
     for s in range(S ** d):
@@ -258,15 +264,13 @@ def g2p(S, mode, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old, ori
     dv = cuda.local.array(3, float64)
     B = cuda.local.array((3, 3), float64)
     L = cuda.local.array((3, 3), float64)
-    inv_h = 1.0 / h
     for a in range(3):
         vpic[a] = 0.0
         dv[a] = 0.0
         for b in range(3):
             B[a, b] = 0.0
             L[a, b] = 0.0
-    for a in range(d):
-        base[a] = _axis((p_x[p, a] - origin[a]) * inv_h, kind, inv_h, w[a], dw[a])
+    _axes(p, p_x, origin, h, kind, w, dw, base)
     nst = S ** d
     for s in range(nst):
         idx, wt = _node(s, S, d, base, lo, nloc, w, dw, k, gw)

@@ -113,15 +113,10 @@ def water_p2g(S, p_x, p_vw, p_Cw, affine, p_wmass, p_drag, p_vol, p_n, p_pore, p
     if p >= p_x.shape[0]:
         return
     d = p_x.shape[1]
-    w = cuda.local.array((3, 4), float64)
-    dw = cuda.local.array((3, 4), float64)
-    base = cuda.local.array(3, int64)
-    k = cuda.local.array(3, int64)
-    gw = cuda.local.array(3, float64)
-    dx = cuda.local.array(3, float64)
-    inv_h = 1.0 / h
-    for a in range(d):
-        base[a] = K._axis((p_x[p, a] - origin[a]) * inv_h, kind, inv_h, w[a], dw[a])
+    w, dw = cuda.local.array((3, 4), float64), cuda.local.array((3, 4), float64)
+    base, k = cuda.local.array(3, int64), cuda.local.array(3, int64)
+    gw, dx = cuda.local.array(3, float64), cuda.local.array(3, float64)
+    K._axes(p, p_x, origin, h, kind, w, dw, base)
     m, npv, drag, vol = _water_scalars(p, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material, table)
     for s in range(S ** d):
         idx, wt = K._node(s, S, d, base, lo, nloc, w, dw, k, gw)
@@ -145,15 +140,10 @@ def smooth_scatter(S, p_x, p_val, p_drained, p_vol, origin, h, kind, lo, nloc, g
     p = cuda.grid(1)
     if p >= p_x.shape[0] or p_drained[p] != 0.0:
         return
+    w, dw = cuda.local.array((3, 4), float64), cuda.local.array((3, 4), float64)
+    base, k, gw = cuda.local.array(3, int64), cuda.local.array(3, int64), cuda.local.array(3, float64)
+    K._axes(p, p_x, origin, h, kind, w, dw, base)
     d = p_x.shape[1]
-    w = cuda.local.array((3, 4), float64)
-    dw = cuda.local.array((3, 4), float64)
-    base = cuda.local.array(3, int64)
-    k = cuda.local.array(3, int64)
-    gw = cuda.local.array(3, float64)
-    inv_h = 1.0 / h
-    for a in range(d):
-        base[a] = K._axis((p_x[p, a] - origin[a]) * inv_h, kind, inv_h, w[a], dw[a])
     v = p_vol[p]
     vf = v * p_val[p]
     for s in range(S ** d):
