@@ -3,10 +3,14 @@
 A scene with pore water runs the CPU backend's own P2G (the solids, from the total stress), grid update,
 stages and G2P (the solids) with these passes around them (engine/scheduler.py, ``_step_saturated``):
 
-    p2g (prepare, solid P2G on the total stress, water P2G, node fill, node_mixture) -> grid update (the
-    mixture) -> stages before BOUNDARY -> snapshot (node_relative) -> BOUNDARY and OBSTACLE stages ->
-    split (node_split) -> water_g2p (water G2P, pressure_increment) -> solid G2P -> particle stages ->
-    porosity (porosity_update) -> effective-stress update (the laws, unchanged)
+    p2g (the acting pressure p = S p_carried through grid_smooth, prepare, solid P2G on the total stress,
+    water P2G, node fill, node_mixture) -> grid update (the mixture) -> stages before BOUNDARY -> snapshot
+    (node_relative) -> BOUNDARY and OBSTACLE stages -> split (node_split) -> water_g2p (water G2P,
+    flag_drained, pressure_increment, its increment through grid_smooth, add_increment to both pressures)
+    -> solid G2P -> particle stages -> porosity (porosity_update) -> effective-stress update (the laws,
+    unchanged)
+
+The CUDA backend runs the same passes (backend/cuda_twophase.py) around the same per-item functions.
 
 A scene without pore water never makes this object: its step is the dry one, unchanged.
 """

@@ -22,7 +22,11 @@ the pore pressure follows the water's mass balance (pressure_increment, at the p
     dp = -dt K_w / n [(1 - n) tr L + n div v_w]
 
 with p = 0 on drained particles (at the free surface, at a drained boundary, separated or dry); the porosity
-follows the skeleton's volume, n = 1 - (1 - n0) V0 / V.
+follows the skeleton's volume, n = 1 - (1 - n0) V0 / V. Each particle carries its own sum of increments
+(p_pore_carried); the pressure that acts on the grid is that sum seen through the grid, S p_pore_carried
+(grid_smooth), and the increment passes through the same S: the exchange of energy between the pressure and
+the velocities then balances (docs/pore-water.md). Each pass is a per-item function (``*_one``) that the
+CPU loops below and the CUDA kernels (backend/cuda_twophase.py) call alike.
 """
 
 import math
