@@ -106,9 +106,11 @@ class SolverSpec(Strict):
         "0: never. Results change only at round-off (the order of the P2G sums)")
 
     pore_pressure_smoothing: bool = Field(
-        True, description="Saturated soil only: see each step's pore-pressure increment through the grid before "
-        "adding it to the particles (one cell's smoothing), which keeps impacts from pumping up patterns of "
-        "particle pressure that the grid cannot see (docs/pore-water.md); false: the particles' own increments")
+        True, description="Saturated soil only: the pore pressure acts on the grid, and is reported, as the "
+        "particles' own pressures seen through the grid (one cell's smoothing), and each step's increment passes "
+        "through the same smoothing: impacts cannot pump up patterns of particle pressure that the grid cannot "
+        "see, and the pressure exchanges no spurious energy with the flow (docs/pore-water.md); false: the "
+        "particles' own pressures and increments")
 
     @field_validator("flip_relaxation_time")
     @classmethod
