@@ -68,8 +68,7 @@ def water_parts(table, wet, view, dt):
               wet.p_dp, st.p_drained, st.p_vol, g.origin, g.h, g.kind, view.lo, view.nloc, wet.c_w[:, :nn],
               wet.g_p[:nn], wet.p_dps)
         dp = wet.p_dps
-    timed(table, "pressure increment", tp.add_increment, st.p_pore_carried, dp, st.p_drained)
-    timed(table, "pressure increment", tp.add_increment, st.p_pore, dp, st.p_drained)
+    timed(table, "pressure increment", tp.add_increment, st.p_pore_carried, st.p_pore, dp, st.p_drained)
 
 
 def saturated_passes(steps):

@@ -76,10 +76,10 @@ def pressure_increment(p_dp, p_divw, p_divs, p_n, p_material, table, dt):
 
 
 @cuda.jit
-def add_increment(p_pore, p_dp, p_drained):
+def add_increment(p_carried, p_pore, p_dp, p_drained):
     p = cuda.grid(1)
     if p < p_pore.shape[0]:
-        _add(p, p_pore, p_dp, p_drained)
+        _add(p, p_carried, p_pore, p_dp, p_drained)
 
 
 @cuda.jit
@@ -324,8 +324,7 @@ class SaturatedCuda:
         if self.smoothing:
             self._smooth(dev, lo, nloc, nn, self.p_dp, self.p_dps)
             dp = self.p_dps
-        add_increment[blocks, K.THREADS](dev["p_pore_carried"], dp, dev["p_drained"])
-        add_increment[blocks, K.THREADS](dev["p_pore"], dp, dev["p_drained"])
+        add_increment[blocks, K.THREADS](dev["p_pore_carried"], dev["p_pore"], dp, dev["p_drained"])
 
     def porosity(self) -> None:
         n = self.be.state.n

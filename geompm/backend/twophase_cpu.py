@@ -123,8 +123,7 @@ class SaturatedCpu:
             tp.grid_smooth(self.cpu.tag, st.p_x, self.p_dp, st.p_drained, st.p_vol, g.origin, g.h, g.kind, view.lo,
                            view.nloc, self.c_w[:, :nn], self.g_p[:nn], self.p_dps)
             dp = self.p_dps
-        tp.add_increment(st.p_pore_carried, dp, st.p_drained)
-        tp.add_increment(st.p_pore, dp, st.p_drained)
+        tp.add_increment(st.p_pore_carried, st.p_pore, dp, st.p_drained)
 
     def porosity(self) -> None:
         st = self.cpu.state

@@ -608,12 +608,17 @@ def pressure_increment(p_dp, p_divw, p_divs, p_n, p_material, table, dt):
 
 
 @njit(cache=True, inline="always")
-def add_increment_one(p, p_pore, p_dp, p_drained):
-    """p += dp where particle p holds pressure; p = 0 where it is drained."""
-    p_pore[p] = 0.0 if p_drained[p] != 0.0 else p_pore[p] + p_dp[p]
+def add_increment_one(p, p_carried, p_pore, p_dp, p_drained):
+    """Both pressures of particle p += dp where it holds pressure; both 0 where it is drained."""
+    if p_drained[p] != 0.0:
+        p_carried[p] = 0.0
+        p_pore[p] = 0.0
+    else:
+        p_carried[p] += p_dp[p]
+        p_pore[p] += p_dp[p]
 
 
 @njit(parallel=True, cache=True)
-def add_increment(p_pore, p_dp, p_drained):
+def add_increment(p_carried, p_pore, p_dp, p_drained):
     for p in prange(p_pore.shape[0]):
-        add_increment_one(p, p_pore, p_dp, p_drained)
+        add_increment_one(p, p_carried, p_pore, p_dp, p_drained)
