@@ -19,6 +19,7 @@ from numba import cuda, float64, int64
 from geompm.backend import cuda_kernels as K
 from geompm.backend.cuda_loops import simulated, simulator_call
 from geompm.kernels import twophase as tp
+from geompm.kernels.stencil import AFFINE
 
 #: the particle arrays of saturated soil that live on the device beside cuda.DEVICE_ARRAYS
 SATURATED_ARRAYS = ("p_vw", "p_Cw", "p_pore", "p_pore_carried", "p_n", "p_sat", "p_drained", "p_vol0",
@@ -217,7 +218,7 @@ class SaturatedCuda:
         d = self.scene.dim
         self.width = 2 * d + 3
         self.smoothing = bool(self.pw.smoothing)
-        self.affine = self.scene.transfer in ("apic", "mls")
+        self.affine = self.scene.transfer in AFFINE
         self.table = cuda.to_device(np.ascontiguousarray(self.pw.table, dtype=np.float64))
         self.walls = cuda.to_device(np.ascontiguousarray(self.pw.walls, dtype=np.float64))
         self.cap = 0

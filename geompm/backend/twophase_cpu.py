@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from geompm.kernels import twophase as tp
+from geompm.kernels.stencil import AFFINE
 
 
 class SaturatedCpu:
@@ -34,7 +35,7 @@ class SaturatedCpu:
         self.n = -1
         self._grid(1024)
         self.smoothing = bool(self.pw.smoothing)
-        self.affine = self.scene.transfer in ("apic", "mls")  # the water's transfer follows the solid's
+        self.affine = self.scene.transfer in AFFINE  # the water's transfer follows the solid's
 
     def _grid(self, cap):
         d = self.scene.dim

@@ -21,6 +21,8 @@ __all__ = ["APIC", "FLIP", "MLS", "PIC", "SCHEMES", "axis_stencil", "mls_derivat
 #: branch on them, so each scheme runs its own specialisation with no run-time test of the scheme
 SCHEMES = ("pic", "apic", "flip", "mls")
 PIC, APIC, FLIP, MLS = (SCHEMES.index(s) for s in ("pic", "apic", "flip", "mls"))
+#: the transfers whose particles carry an affine matrix (the water of saturated soil then carries one too)
+AFFINE = ("apic", "mls")
 
 
 def stencil_tag(kind: int) -> tuple:

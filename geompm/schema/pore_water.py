@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from geompm.contract.stages import MERGE
+from geompm.kernels.stencil import AFFINE
 
 
 def saturated_materials(case) -> set[str]:
@@ -70,7 +71,7 @@ FLOW_CFL = 0.1
 def pore_water_warnings(case) -> list[tuple[str, str]]:
     """(JSON path, sentence): a saturated case with APIC or MLS above FLOW_CFL (warned, not refused: a
     quasi-static case, consolidation, is verified at 0.4)."""
-    if not saturated_materials(case) or case.solver.transfer not in ("apic", "mls") or case.time.dt is not None:
+    if not saturated_materials(case) or case.solver.transfer not in AFFINE or case.time.dt is not None:
         return []
     if case.time.cfl <= FLOW_CFL:
         return []
