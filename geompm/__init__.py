@@ -15,7 +15,7 @@ SI units throughout: metres, seconds, kilograms, pascals.  The packages, lowest 
 - ``schema``: the case format and its validation;
 - ``setup``: a validated case made into a Scene (bodies, release areas, geostatic stress);
 - ``engine``: the time loop, health checks, checkpoints;
-- ``api``, ``study``, ``bench``, ``plots``, ``testing``: what users and plugin authors call;
+- ``api``, ``study``, ``stability``, ``bench``, ``plots``, ``testing``: what users and plugin authors call;
 - ``cli``: the ``geompm`` command.
 """
 

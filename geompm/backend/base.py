@@ -68,6 +68,10 @@ class Backend:
     def update_stress(self, dt: float) -> None:
         raise NotImplementedError
 
+    def material_parameters_changed(self) -> None:
+        """The laws' packed parameters (``scene.materials[k].prm``) were changed in place (a strength
+        trigger, engine/triggers.py): a backend that keeps its own copy takes them again."""
+
     def sort_particles(self) -> None:
         raise NotImplementedError
 

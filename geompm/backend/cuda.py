@@ -175,6 +175,9 @@ class CudaBackend(Backend):
             dev["p_mass"], view.g_vel, g_vel_old, self._origin, g.h, g.kind, cuda.to_device(view.lo),
             cuda.to_device(view.nloc), dt, ratio, sc.apic_dinv, set_velocity, move, gradient)
 
+    def material_parameters_changed(self) -> None:
+        self._prm = [cuda.to_device(m.prm) for m in self.scene.materials]
+
     def update_stress(self, dt: float) -> None:
         dev = self._device()
         rate = cuda.to_device(np.zeros(1))

@@ -19,6 +19,7 @@ from geompm.files.ownership import may_write
 from geompm.bench.command import add_parser as bench_parser
 from geompm.cli.cuda_check import add_parser as cuda_check_parser
 from geompm.study.calibrate import add_parser as calibrate_parser
+from geompm.stability.command import add_parser as stability_parser
 from geompm.study.command import add_parser as study_parser
 
 
@@ -98,6 +99,11 @@ def _run_dir_arg(path) -> Path:
 def cmd_info(args) -> int:
     from geompm.engine import checkpoint
 
+    if (Path(args.run_dir) / "stability.json").is_file():
+        from geompm.stability.report import print_info
+
+        print_info(Path(args.run_dir))
+        return 0
     run_dir = _run_dir_arg(args.run_dir)
     case = json.loads((run_dir / "case.json").read_text())
     status_file = run_dir / "status.json"
@@ -235,7 +241,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("case")
     p.add_argument("--set", action="append", metavar="KEY=VALUE")
     p.set_defaults(func=cmd_validate)
-    p = sub.add_parser("info", help="summarise a run folder")
+    p = sub.add_parser("info", help="summarise a run folder (or a stability folder: its factor of safety)")
     p.add_argument("run_dir")
     p.set_defaults(func=cmd_info)
     p = sub.add_parser("plot", help="PNGs of a run: series, obstacle forces, 2D deposit, hazard maps")
@@ -243,6 +249,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", help="folder for the PNGs (default RUN_DIR/plots)")
     p.set_defaults(func=cmd_plot)
     study_parser(sub)
+    stability_parser(sub)
     calibrate_parser(sub)
     bench_parser(sub)
     cuda_check_parser(sub)

@@ -26,6 +26,7 @@ import numpy as np
 from geompm.backend import make_backend
 from geompm.kernels.reduce import kinetic_energy, max_coordinate, max_coordinate_by_group
 from geompm.contract.stages import BOUNDARY, GridStage, ParticleStage
+from geompm.engine.triggers import StrengthSchedule
 
 
 class Simulation:
@@ -41,6 +42,8 @@ class Simulation:
         self.step = self._step_musl if scene.musl else self._step_usl
         if scene.pore_water is not None:
             self.step = self._step_saturated
+        trig = scene.strength_trigger
+        self.strength = StrengthSchedule(*trig) if trig is not None else None
         self.time = 0.0
         self.step_count = 0
         self.dt = 0.0
@@ -79,6 +82,8 @@ class Simulation:
         self._end_stress(view, dt)
 
     def _end_stress(self, view, dt):
+        if self.strength is not None:
+            self.strength.apply(self.scene, self.backend, self.time)
         self.backend.update_stress(dt)
         self.view = view
         self.dt = dt
@@ -164,6 +169,8 @@ class Simulation:
             "front_x": max_coordinate(st.p_x, 0),
         }
         row.update(self.group_fronts())
+        if self.strength is not None:
+            row["strength_factor"] = self.strength.factor(self.time)
         if self.scene.pore_water is not None:
             row.update(self.pore_pressure_series())
         for stage in dict.fromkeys(self.grid_stages + self.particle_stages):  # a stage of both kinds once

@@ -30,7 +30,7 @@ from pathlib import Path
 from geompm.errors import CaseError
 
 MARKER = ".geompm-folder"
-KINDS = ("run", "study", "calibration")
+KINDS = ("run", "study", "calibration", "stability")
 
 _made_files: set[str] = set()  # temporary files this process created (atomic writes)
 

@@ -51,6 +51,8 @@ class Material(Plugin):
     fluid: ClassVar[bool] = False
     #: whether stress depends on the deformation rate (then stress can change at zero L)
     rate_dependent: ClassVar[bool] = False
+    #: whether the law has a shear strength that `geompm stability` divides by a factor F (strength_reduced)
+    strength_reduction: ClassVar[bool] = False
 
     #: the backends whose compilation of particle_stress has been checked (geompm plugins lists them;
     #: a case on another backend is refused): a law in the CUDA subset (math.* not np.* on scalars, no
@@ -94,6 +96,12 @@ class Material(Plugin):
         set): `geompm validate` reports the time step each would take (engine/estimate.py).  None (an
         empty list) by default; the yield-stress fluids offer the other of explicit and elasto-viscoplastic."""
         return []
+
+    @classmethod
+    def strength_reduced(cls, params, factor: float) -> dict:
+        """The parameters (by name, as the case's JSON spells them) that give the law's shear strength
+        divided by ``factor`` (docs/slope-stability.md); only a law that sets ``strength_reduction``."""
+        raise NotImplementedError(f"material '{cls.name}' has no strength to reduce")
 
     def warnings(self) -> list[str]:
         """What `geompm validate` and `geompm run` should warn about this law's parameters, each a

@@ -124,12 +124,28 @@ def elastic_wave_speed(prm, rho):
     return math.sqrt((prm[ELASTIC.lam] + 2.0 * prm[ELASTIC.G]) / prm[ELASTIC.density])
 
 
+def reduced_angles(phi_deg: float, psi_deg: float, factor: float) -> tuple[float, float]:
+    """(phi_F, psi_F) [deg] of the strength-reduction method: tan(phi_F) = tan(phi) / F, and the dilation
+    angle kept unless it exceeds phi_F, where it becomes phi_F, so an associated soil stays associated and a
+    non-associated one keeps its psi (Brinkgreve & Bakker 1991, Proc. 7th IACMAG, 1117-1122: the phi-c
+    reduction of PLAXIS).  Griffiths & Lane (1999, Geotechnique 49(3):387) reduce c and tan(phi) alike."""
+    phi = math.degrees(math.atan(math.tan(math.radians(phi_deg)) / factor))
+    return phi, min(psi_deg, phi)
+
+
 class FrictionalMaterial(Material):
     """Base of the Mohr-Coulomb-type soil laws (ElastoplasticParams)."""
 
     plausible = (DENSITY, YOUNGS_MODULUS, angle("friction_angle"), COHESION)
+    strength_reduction = True
 
     particle_wave_speed = elastic_wave_speed
+
+    @classmethod
+    def strength_reduced(cls, params, factor: float) -> dict:
+        """c / F, tan(phi) / F, and psi kept unless it exceeds the reduced phi (reduced_angles)."""
+        phi, psi = reduced_angles(params.friction_angle, params.dilation_angle, factor)
+        return {"cohesion": params.cohesion / factor, "friction_angle": phi, "dilation_angle": psi}
 
     @staticmethod
     def elastic_pack(p) -> dict:

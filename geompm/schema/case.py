@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal, Union
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 Vector = list[float]
 
@@ -282,6 +282,34 @@ class BodySpec(Strict):
 NAME_PATTERN = r"^[A-Za-z0-9_\-][A-Za-z0-9_.\-]*$"  # names a folder: never '.', '..' or hidden
 
 
+class StrengthReductionSpec(Strict):
+    times: list[float] = Field(min_length=1, max_length=1000,
+                               description="Times [s] of the schedule's points, non-decreasing")
+    factors: list[float] = Field(min_length=1, max_length=1000,
+                                 description="Strength reduction factor F [-] at each time (F > 1 weakens: c / F, "
+                                             "tan(phi) / F); between two times F is linear")
+    materials: list[str] | None = Field(None, description="The materials whose strength is reduced (default every "
+                                                           "material with a strength to reduce)")
+
+    @model_validator(mode="after")
+    def _schedule(self):
+        if len(self.times) != len(self.factors):
+            raise ValueError(f"'times' has {len(self.times)} entries and 'factors' {len(self.factors)}: give one "
+                             "factor per time")
+        if any(b < a for a, b in zip(self.times, self.times[1:])):
+            raise ValueError("'times' must not decrease")
+        if any(t < 0.0 for t in self.times):
+            raise ValueError("'times' must be >= 0 s")
+        if any(not 0.05 <= f <= 20.0 for f in self.factors):
+            raise ValueError("every factor must lie in [0.05, 20] (F = 1: the soil as given)")
+        return self
+
+
+class TriggersSpec(Strict):
+    strength_reduction: StrengthReductionSpec | None = Field(
+        None, description="Divide the soils' shear strength by a factor F(t) (a strength ramp to failure)")
+
+
 class Case(Strict):
     """A geompm case.  Every length in m, time in s, density kg/m3, stress Pa."""
 
@@ -303,6 +331,8 @@ class Case(Strict):
     damping: list[DampingSpec] = Field(default_factory=list)
     outputs: list[OutputSpec] = Field(default_factory=list)
     run: RunSpec = Field(default_factory=RunSpec)
+    triggers: TriggersSpec | None = Field(None, description="What changes over the run to take a slope to failure "
+                                                            "(docs/slope-stability.md)")
 
     @field_validator("crs")
     @classmethod

@@ -27,6 +27,7 @@ from geompm.schema.case import Case, DampingSpec, MaterialSpec, OutputSpec, Plug
 from geompm.schema.errors import format_validation_error
 from geompm.schema.pore_water import pore_water_problems, pore_water_warnings
 from geompm.schema.raw_checks import TOO_DEEP, merge, raw_problems
+from geompm.schema.triggers import trigger_problems
 
 
 @dataclass
@@ -371,6 +372,7 @@ def _parse_valid_numbers(raw: dict, base_dir: Path) -> LoadedCase:
     _plugin_pass(raw, case, loaded, problems)
     problems.extend(duplicate_labels(loaded))
     problems.extend(pore_water_problems(case, loaded))
+    problems.extend(trigger_problems(case, loaded))
     loaded.warnings.extend(plausibility_warnings(loaded))
     loaded.warnings.extend(pore_water_warnings(case))
     if not problems:

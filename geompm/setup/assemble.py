@@ -56,6 +56,8 @@ class Scene:
     body_materials: list = field(default_factory=list)  # the material name of each body, in case order
     crs: str | None = None  # the case's coordinate reference system ("EPSG:2056"), if it states one
     pore_water: object = None  # setup/pore_water.PoreWater where a material is saturated, else None
+    #: triggers.strength_reduction as (times [s], factors [-], material ids), or None (engine/triggers.py)
+    strength_trigger: tuple | None = None
     case_text: str = ""  # the case as JSON, for provenance only (the HDF5 file's attribute); never parsed
 
     @property
@@ -224,6 +226,7 @@ def assemble(loaded: LoadedCase) -> Scene:
         apic_dinv=(1.0 / (APIC_D_FACTOR[kind] * h * h)) if APIC_D_FACTOR[kind] > 0 else 0.0,
         nu_max=max((m.kinematic_viscosity() for m in materials), default=0.0),
         case_text=json.dumps(loaded.raw), crs=case.crs, body_materials=[b.material for b in case.bodies],
+        strength_trigger=_strength_trigger(case, materials, names),
         base_dir=loaded.base_dir, pore_water=pw,
     )
     for r, spec in zip(loaded.outputs, loaded.case.outputs):  # first: a stage asks what they need (face forces)
@@ -274,3 +277,14 @@ def _check_bodies_clear(scene: Scene) -> None:
                              f"expel them in the first steps with a spurious force)"))
     if problems:
         raise CaseError(problems)
+
+
+def _strength_trigger(case, materials: list, names: list[str]) -> tuple | None:
+    """(times, factors, material ids) of ``triggers.strength_reduction``: the named materials, or every one
+    whose law has a strength to reduce."""
+    spec = case.triggers.strength_reduction if case.triggers is not None else None
+    if spec is None:
+        return None
+    wanted = spec.materials if spec.materials is not None else [n for n, m in zip(names, materials)
+                                                                 if type(m).strength_reduction]
+    return tuple(spec.times), tuple(spec.factors), tuple(names.index(n) for n in wanted)

@@ -2,7 +2,8 @@
 
 Columns: time [s], step, dt [s], kinetic_energy [J; J/m in 2D plane strain],
 front_x [m] (largest particle x), then the columns that stages add (obstacle
-forces, ...).  With ``normalise`` it adds the dimensionless quantities of
+forces, ...).  With ``displacement`` it adds ``max_displacement`` and
+``mean_displacement`` [m], the largest and the mean |x_p - x0_p| over the particles.  With ``normalise`` it adds the dimensionless quantities of
 granular-flow studies (e.g. the source study, section 3.1):
 
     T_star = t sqrt(g / h0),   X_star = (x_front - l0) / l0,   K_star = E_k / (m g h0)
@@ -41,6 +42,9 @@ class Normalise(Params):
 
 class SeriesParams(Params):
     normalise: Normalise | None = Field(None, description="Add T_star, X_star, K_star columns")
+    displacement: bool = Field(
+        False, description="Add the columns max_displacement and mean_displacement [m], the largest and the mean "
+        "particle displacement |x - x0| (geompm stability judges each trial by them)")
     deposit_threshold: float | None = Field(
         None, gt=0, description="2D: add the column deposit_front [m], the largest x where the deposit is at "
         "least this thick [m] (geompm.writers.deposit; e.g. 0.05 H0), and deposit_height [m]; geompm study then takes "
@@ -74,6 +78,11 @@ class SeriesWriter(Writer):
             row["T_star"] = sim.time * np.sqrt(g / nm.height)
             row["X_star"] = (front - nm.length) / nm.length
             row["K_star"] = row["kinetic_energy"] / (self.mass * g * nm.height)
+        if self.params.displacement:
+            st = sim.state
+            u = np.sqrt(((st.p_x - st.p_x0) ** 2).sum(axis=1))
+            row["max_displacement"] = float(u.max()) if st.n else 0.0
+            row["mean_displacement"] = float(u.mean()) if st.n else 0.0
         if self.params.deposit_threshold is not None:
             t = self.params.deposit_threshold
             xs, thickness = thickness_profile(sim.state.p_x, self._solid_areas(sim), 0.2 * t)

@@ -29,7 +29,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("schema",),
     ("setup",),
     ("engine",),
-    ("api", "testing", "study", "bench", "plots"),
+    ("api", "testing", "study", "stability", "bench", "plots"),
     ("cli",),
     # old import paths kept for plugins (each forwards to its new module) and the package's own __init__
     ("plugin", "stages", "layout", "registry", "__init__"),

@@ -1,0 +1,84 @@
+"""The infinite-slope tables of docs/slope-stability.md: `geompm stability` at three cell sizes against the
+closed forms, and the factor's sensitivity to the trials' local damping and to the failure criterion.
+
+    python benchmarks/stability/infinite_slope_table.py OUT_FOLDER > table.txt
+
+Cases (tests/support/slopes.py): beta = 20 deg, phi = 30 deg, 1 m deep, gamma = 2000 x 9.81 N/m3.
+  associated (psi = phi), c = 0:        F = tan(phi) / tan(beta) = 1.5863
+  associated, c = 2 kPa:                F = c / (gamma z cos^2 beta tan beta) + tan(phi) / tan(beta) = 1.9035
+  psi = 0, c = 0 (Mohr-Coulomb):        Davis (1968): the slip plane carries tan(phi*) = sin(phi) cos(psi) /
+                                        (1 - sin(phi) sin(psi)), so F solves sin(atan(tan(phi) / F)) = tan(beta):
+                                        F = 1.4774
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+from tests.support.slopes import infinite_slope_case, limit_equilibrium  # noqa: E402
+
+
+def davis(beta=20.0, phi=30.0):
+    return math.tan(math.radians(phi)) / math.tan(math.asin(math.tan(math.radians(beta))))
+
+
+def run(out: Path, name: str, case: dict, *args) -> dict:
+    path = out / f"{name}.json"
+    path.write_text(json.dumps(case, indent=1))
+    t0 = time.perf_counter()
+    proc = subprocess.run([sys.executable, "-m", "geompm.cli", "stability", str(path), "--out", str(out / name),
+                           "--overwrite", "--quiet", "--json", "--workers", "2", "--threads", "1", *args],
+                          capture_output=True, text=True)
+    if proc.returncode:
+        raise SystemExit(proc.stderr)
+    s = json.loads(proc.stdout.strip().splitlines()[-1])
+    s["wall"] = time.perf_counter() - t0
+    return s
+
+
+def line(label, s, ref):
+    lo, hi = s["bracket"]
+    steps = 0
+    for t in s["trials"]:
+        rows = Path(t["run_dir"], "series.csv").read_text().splitlines()
+        steps += int(rows[-1].split(",")[1])
+    f = s["factor_of_safety"]
+    return (f"{label:34s} F = {f:.4f} [{lo:.4f}, {hi:.4f}]  reference {ref:.4f}  error {100 * (f / ref - 1):+.2f} %  "
+            f"{len(s['trials'])} trials, {steps} steps, {s['wall']:.0f} s")
+
+
+def main():
+    out = Path(sys.argv[1])
+    out.mkdir(parents=True, exist_ok=True)
+    print(__doc__.split("Cases")[0].strip().splitlines()[0])
+    print("2-core development machine, 2 trials in flight, 1 thread each; tolerance 0.01; trials 2 s "
+          "(F0 for 0.5 s, ramp 0.5 s, hold 1 s)\n")
+    for label, kw, ref in (("associated, c = 0", {}, limit_equilibrium(20, 30, 0)),
+                           ("associated, c = 2 kPa", {"cohesion": 2000.0}, limit_equilibrium(20, 30, 2000)),
+                           ("psi = 0, c = 0 (Mohr-Coulomb, Davis)", {"dilation": 0.0, "model": "mohr_coulomb"}, davis())):
+        for h in (0.1, 0.05, 0.025):
+            name = f"{label.split(',')[0].replace(' ', '_').replace('=', '')}_{kw.get('cohesion', 0):g}_{h:g}"
+            print(line(f"{label}, h = {h:g} m", run(out, name, infinite_slope_case(h, **kw)), ref), flush=True)
+    ref = limit_equilibrium(20, 30, 0)
+    print("\nlocal damping alpha of the trials (associated, c = 0, h = 0.05 m):")
+    for a in (0.0, 0.01, 0.02, 0.05, 0.1, 0.3, 0.8):
+        print(line(f"alpha = {a:g}", run(out, f"alpha_{a:g}", infinite_slope_case(0.05), "--damping", str(a)), ref),
+              flush=True)
+    print("\nfailure criterion: creep threshold in cell sizes (associated, c = 0, h = 0.05 m):")
+    for c in (0.03, 0.1, 0.3, 1.0):
+        print(line(f"creep = {c:g} h", run(out, f"creep_{c:g}", infinite_slope_case(0.05), "--creep", str(c)), ref),
+              flush=True)
+    print("\ntrial duration (associated, c = 0, h = 0.05 m):")
+    for d in (1.0, 4.0):
+        print(line(f"duration = {d:g} s", run(out, f"duration_{d:g}", infinite_slope_case(0.05), "--duration", str(d)),
+                   ref), flush=True)
+
+
+if __name__ == "__main__":
+    main()
