@@ -58,27 +58,26 @@ def main():
     out.mkdir(parents=True, exist_ok=True)
     print(__doc__.split("Cases")[0].strip().splitlines()[0])
     print("2-core development machine, 2 trials in flight, 1 thread each; tolerance 0.01; trials 2 s "
-          "(F0 for 0.5 s, ramp 0.5 s, hold 1 s)\n")
+          "(F0 for 0.5 s, ramp 0.5 s, hold 1 s), viscous damping 20 1/s, increment ratio 0.7\n")
     for label, kw, ref in (("associated, c = 0", {}, limit_equilibrium(20, 30, 0)),
                            ("associated, c = 2 kPa", {"cohesion": 2000.0}, limit_equilibrium(20, 30, 2000)),
                            ("psi = 0, c = 0 (Mohr-Coulomb, Davis)", {"dilation": 0.0, "model": "mohr_coulomb"}, davis())):
         for h in (0.1, 0.05, 0.025):
             name = f"{label.split(',')[0].replace(' ', '_').replace('=', '')}_{kw.get('cohesion', 0):g}_{h:g}"
             print(line(f"{label}, h = {h:g} m", run(out, name, infinite_slope_case(h, **kw)), ref), flush=True)
-    ref = limit_equilibrium(20, 30, 0)
-    print("\nlocal damping alpha of the trials (associated, c = 0, h = 0.05 m):")
-    for a in (0.0, 0.01, 0.02, 0.05, 0.1, 0.3, 0.8):
-        print(line(f"alpha = {a:g}", run(out, f"alpha_{a:g}", infinite_slope_case(0.05), "--damping", str(a)), ref),
-              flush=True)
-    print("\nfailure criterion: creep threshold in cell sizes (associated, c = 0, h = 0.05 m):")
-    for c in (0.03, 0.1, 0.3, 1.0):
-        print(line(f"creep = {c:g} h", run(out, f"creep_{c:g}", infinite_slope_case(0.05), "--creep", str(c)), ref),
-              flush=True)
-    print("\ntrial duration (associated, c = 0, h = 0.05 m):")
-    for d in (1.0, 4.0):
-        print(line(f"duration = {d:g} s", run(out, f"duration_{d:g}", infinite_slope_case(0.05), "--duration", str(d)),
-                   ref), flush=True)
-
+    for label, kw, ref in (("associated, c = 2 kPa", {"cohesion": 2000.0}, limit_equilibrium(20, 30, 2000)),):
+        print(f"\nfailure criterion: increment ratio ({label}, h = 0.05 m):")
+        for r in (0.5, 0.9):
+            print(line(f"ratio = {r:g}", run(out, f"ratio_{r:g}", infinite_slope_case(0.05, **kw), "--ratio", str(r)),
+                       ref), flush=True)
+        print(f"\ntrial duration and damping rate ({label}, h = 0.05 m):")
+        for extra in (("--duration", "4"), ("--damping-rate", "10"), ("--damping-rate", "40")):
+            print(line(" ".join(extra), run(out, "_".join(extra).strip("-"), infinite_slope_case(0.05, **kw), *extra),
+                       ref), flush=True)
+        print(f"\nCundall local damping added to the viscous one ({label}):")
+        for h in (0.1, 0.05, 0.025):
+            print(line(f"alpha = 0.02, h = {h:g} m", run(out, f"local_{h:g}", infinite_slope_case(h, **kw),
+                                                          "--local-damping", "0.02"), ref), flush=True)
 
 if __name__ == "__main__":
     main()

@@ -98,6 +98,13 @@ class Material(Plugin):
         return []
 
     @classmethod
+    def at_cell_size(cls, params, cell_size: float):
+        """The parameters the law runs with on cells of ``cell_size`` [m]: ``params`` unchanged, except for a
+        law regularised by the cell size (a softening law's strain thresholds, softening.py).  setup calls
+        it before the law is made, so the packed parameters hold the scaled values."""
+        return params
+
+    @classmethod
     def strength_reduced(cls, params, factor: float) -> dict:
         """The parameters (by name, as the case's JSON spells them) that give the law's shear strength
         divided by ``factor`` (docs/slope-stability.md); only a law that sets ``strength_reduction``."""

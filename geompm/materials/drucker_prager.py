@@ -96,16 +96,33 @@ def dp_coefficients(angle_deg: float, cone: str, dilation_deg: float | None = No
     return 0.5 * (out[0] + inn[0]), 0.5 * (out[1] + inn[1])
 
 
-@njit(cache=True)
-def dp_stress(prm, dt, L, rho, s, state):
-    """One particle's DP return (module docstring); s (6,) and state (2,) in place."""
-    lam, G = current_moduli(prm, rho)
-    alpha, k, beta = prm[DP.alpha], prm[DP.k], prm[DP.beta]
-    tcut = prm[DP.tension_cutoff]
-    K = lam + 2.0 * G / 3.0
-    if state[1] >= prm[DP.dilation_cutoff]:  # dilatancy cut-off: isochoric past it, with the cone matched to that
-        alpha, k, beta = prm[DP.alpha_isochoric], prm[DP.k_isochoric], 0.0
-    tr = kirchhoff_trial(s, L, dt, lam, G)
+#: the cone matchings, in the order of the packed ``cone`` index of the laws that compute their cone per particle
+CONES = ("plane_strain", "outer", "inner", "middle")
+
+
+@njit(cache=True, inline="always")
+def dp_cone(sphi, cphi, spsi, cone):
+    """(alpha, k / c, beta) of the cone matched to Mohr-Coulomb with sin(phi), cos(phi), sin(psi), for the
+    matching ``CONES[cone]``: the formulas of the module docstring, as dp_coefficients gives them, in a form
+    a kernel can evaluate per particle (a softening law's phi and psi change with its plastic strain)."""
+    if cone == 0:
+        beta = spsi / math.sqrt(9.0 + 3.0 * spsi * spsi)
+        root = math.sqrt(1.0 - 3.0 * beta * beta)
+        alpha = sphi / (3.0 * root + 3.0 * beta * sphi)
+        return alpha, cphi * (1.0 - 3.0 * alpha * beta) / root, beta
+    a_out, k_out, b_out = 2.0 * sphi / (SQ3 * (3.0 - sphi)), 6.0 * cphi / (SQ3 * (3.0 - sphi)), 2.0 * spsi / (SQ3 * (3.0 - spsi))
+    a_in, k_in, b_in = 2.0 * sphi / (SQ3 * (3.0 + sphi)), 6.0 * cphi / (SQ3 * (3.0 + sphi)), 2.0 * spsi / (SQ3 * (3.0 + spsi))
+    if cone == 1:
+        return a_out, k_out, b_out
+    if cone == 2:
+        return a_in, k_in, b_in
+    return 0.5 * (a_out + a_in), 0.5 * (k_out + k_in), 0.5 * (b_out + b_in)
+
+
+@njit(cache=True, inline="always")
+def dp_return(s, state, tr, K, G, alpha, k, beta, tcut):
+    """The return of the trial stress ``tr`` (a Voigt 6-tuple) to the cone (alpha, k) with potential beta and
+    the tension cut-off tcut (module docstring); s (6,) and state (2,) in place."""
     I1 = tr[0] + tr[1] + tr[2]
     mean = I1 / 3.0
     tau = sqrt_j2(tr, mean)
@@ -137,6 +154,18 @@ def dp_stress(prm, dt, L, rho, s, state):
         if t_now > tmax:
             scale = max(tmax, 0.0) / tau if tau > 0.0 else 0.0
     set_scaled_deviator(s, tr, mean, scale, I1n / 3.0)
+
+
+@njit(cache=True)
+def dp_stress(prm, dt, L, rho, s, state):
+    """One particle's DP return (module docstring); s (6,) and state (2,) in place."""
+    lam, G = current_moduli(prm, rho)
+    alpha, k, beta = prm[DP.alpha], prm[DP.k], prm[DP.beta]
+    K = lam + 2.0 * G / 3.0
+    if state[1] >= prm[DP.dilation_cutoff]:  # dilatancy cut-off: isochoric past it, with the cone matched to that
+        alpha, k, beta = prm[DP.alpha_isochoric], prm[DP.k_isochoric], 0.0
+    tr = kirchhoff_trial(s, L, dt, lam, G)
+    dp_return(s, state, tr, K, G, alpha, k, beta, prm[DP.tension_cutoff])
 
 
 class DruckerPrager(FrictionalMaterial):

@@ -112,16 +112,13 @@ def _rebuild(s, w0, w1, w2, x0, y0, z0, x1, y1, z1, x2, y2, z2):
     s[5] = w0 * x0 * z0 + w1 * x1 * z1 + w2 * x2 * z2
 
 
-@njit(cache=True)
-def mc_stress(prm, dt, L, rho, s, state):
-    """One particle's MC return in principal space (module docstring); s (6,) and state (2,) in place."""
-    lam, G = current_moduli(prm, rho)
-    spsi = prm[MC.sin_psi] if state[1] < prm[MC.dilation_cutoff] else 0.0  # dilatancy cut-off
-    tr = kirchhoff_trial(s, L, dt, lam, G)
+@njit(cache=True, inline="always")
+def mc_update(s, state, tr, lam, G, sphi, cphi, spsi, c):
+    """The return of the trial stress ``tr`` (a Voigt 6-tuple) to the hexagon (phi, c) with dilation psi, in
+    principal space (module docstring); s (6,) and state (2,) in place."""
     # Voigt order (xx, yy, zz, xy, yz, xz); eigenvalues ascending: w[2] = sigma_1
     e = sym_eig3(tr[0], tr[1], tr[2], tr[3], tr[4], tr[5])
-    r1, r2, r3, deq, dvol = mc_principal_return(e[2], e[1], e[0], lam, G, prm[MC.sin_phi], prm[MC.cos_phi],
-                                                spsi, prm[MC.cohesion])
+    r1, r2, r3, deq, dvol = mc_principal_return(e[2], e[1], e[0], lam, G, sphi, cphi, spsi, c)
     if deq == 0.0 and dvol == 0.0:
         for i in range(6):
             s[i] = tr[i]
@@ -130,6 +127,15 @@ def mc_stress(prm, dt, L, rho, s, state):
     state[1] += dvol
     # sigma = sum_k r_k v_k v_k^T with the trial stress's principal directions v_k (columns)
     _rebuild(s, r3, r2, r1, e[3], e[4], e[5], e[6], e[7], e[8], e[9], e[10], e[11])
+
+
+@njit(cache=True)
+def mc_stress(prm, dt, L, rho, s, state):
+    """One particle's MC return in principal space (module docstring); s (6,) and state (2,) in place."""
+    lam, G = current_moduli(prm, rho)
+    spsi = prm[MC.sin_psi] if state[1] < prm[MC.dilation_cutoff] else 0.0  # dilatancy cut-off
+    tr = kirchhoff_trial(s, L, dt, lam, G)
+    mc_update(s, state, tr, lam, G, prm[MC.sin_phi], prm[MC.cos_phi], spsi, prm[MC.cohesion])
 
 
 class MohrCoulomb(FrictionalMaterial):

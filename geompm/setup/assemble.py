@@ -149,7 +149,9 @@ def assemble(loaded: LoadedCase) -> Scene:
     gravity = np.asarray(case.gravity, dtype=float)
 
     names = list(loaded.materials)
-    materials = [loaded.materials[k].cls(skeleton_params(case, k, loaded.materials[k].params)) for k in names]
+    laws = {k: loaded.materials[k].cls for k in names}
+    materials = [laws[k](laws[k].at_cell_size(skeleton_params(case, k, loaded.materials[k].params), case.grid.cell_size))
+                 for k in names]
     xs, vs, ms, vols, mids, bids, k0s, geo, normals, tests = [], [], [], [], [], [], [], [], [], []
     pw = material_table(case, names)
     waters = []  # per body: (saturated flag, water table, pore pressure) or None

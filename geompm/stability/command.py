@@ -23,15 +23,12 @@ from geompm.files.ownership import holds_only, prepare_folder
 from geompm.schema.load import load_case, read_json
 from geompm.stability import criterion, report
 from geompm.stability.search import Search
-from geompm.stability.trial import check_case, trial_sets
+from geompm.stability.trial import check_case, trial_damping, trial_sets
 from geompm.study.execute import Pool, add_threads_option, check_threads, run_variant, threads_per_run
 from geompm.study.metrics import read_series
 
 STABILITY_FILES = {"trials", "stability.json", "mechanism.vtu", "mechanism.png"}
 MAX_TRIALS = 60
-#: local damping of the trials: on the infinite slope alpha = 0.1 raised F by 3.6 % and 0.8 by half; 0.02 by
-#: 0.7-1.1 % (docs/slope-stability.md)
-DEFAULT_ALPHA = 0.02
 
 
 def add_parser(sub) -> None:
@@ -43,12 +40,13 @@ def add_parser(sub) -> None:
     p.add_argument("--start", type=float, default=1.0, help="the first F tried (default 1)")
     p.add_argument("--duration", type=float,
                    help="simulated time of each trial [s] (default the case's time.end)")
-    p.add_argument("--damping", type=float, default=DEFAULT_ALPHA,
-                   help=f"Cundall local damping alpha of the trials (default {DEFAULT_ALPHA}: a larger alpha adds "
-                        "strength, docs/slope-stability.md)")
-    p.add_argument("--creep", type=float, default=criterion.CREEP_CELLS, metavar="CELLS",
-                   help="failure criterion: a trial failed if its largest displacement grew by this many cell "
-                        f"sizes over its last quarter (default {criterion.CREEP_CELLS})")
+    p.add_argument("--damping-rate", type=float, metavar="ZETA",
+                   help="viscous damping rate of the trials [1/s] (default 40 / duration)")
+    p.add_argument("--local-damping", type=float, default=0.0, metavar="ALPHA",
+                   help="add Cundall local damping (default 0: it adds strength, docs/slope-stability.md)")
+    p.add_argument("--ratio", type=float, default=criterion.DEFAULT_RATIO,
+                   help="failure criterion: a trial failed if its largest displacement grew over its last quarter "
+                        f"by at least this share of its growth over the quarter before (default {criterion.DEFAULT_RATIO})")
     p.add_argument("--out", help="stability folder (default stability/<case name>)")
     p.add_argument("--overwrite", action="store_true", help="delete an existing stability folder first")
     p.add_argument("--workers", type=int, help="trials in flight per round (default: CPU cores)")
@@ -58,25 +56,28 @@ def add_parser(sub) -> None:
     p.set_defaults(func=cmd_stability)
 
 
-def _check_args(args, loaded) -> tuple[float, float]:
-    """(duration, creep) after refusing impossible settings."""
+def _check_args(args, loaded) -> tuple[float, float, float]:
+    """(duration [s], viscous damping rate [1/s], floor [m]) after refusing impossible settings."""
     problems = []
     if not 0.0 < args.tolerance < 1.0:
         problems.append(("--tolerance", f"{args.tolerance:g} is not a tolerance on F; give e.g. 0.01"))
     if not 0.05 <= args.start <= 20.0:
         problems.append(("--start", f"{args.start:g}: give a first factor between 0.05 and 20"))
-    if not 0.0 <= args.damping < 1.0:
-        problems.append(("--damping", f"{args.damping:g}: Cundall's alpha lies in [0, 1); 0.8 is usual"))
-    if not 0.0 < args.creep <= 10.0:
-        problems.append(("--creep", f"{args.creep:g}: give a displacement in cell sizes in (0, 10], e.g. 0.1"))
+    if not 0.0 <= args.local_damping < 1.0:
+        problems.append(("--local-damping", f"{args.local_damping:g}: Cundall's alpha lies in [0, 1)"))
+    if not 0.0 < args.ratio <= 2.0:
+        problems.append(("--ratio", f"{args.ratio:g}: give a ratio of displacement increments in (0, 2], e.g. 0.7"))
     duration = float(args.duration if args.duration is not None else loaded.case.time.end)
     if not duration > 0.0:
         problems.append(("--duration", f"{duration:g} s: give the simulated time of a trial in seconds"))
+    rate = 40.0 / duration if args.damping_rate is None else float(args.damping_rate)
+    if duration > 0.0 and not rate > 0.0:
+        problems.append(("--damping-rate", f"{rate:g}: give a viscous damping rate in 1/s, e.g. {40.0 / duration:.3g}"))
     if args.workers is not None and args.workers < 1:
         problems.append(("--workers", f"{args.workers}: give 1 or more"))
     if problems:
         raise CaseError(problems)
-    return duration, args.creep * float(loaded.case.grid.cell_size)
+    return duration, rate, criterion.FLOOR_CELLS * float(loaded.case.grid.cell_size)
 
 
 def _round(pool, case, out: Path, factors, sets_of, threads, first: int) -> list[dict]:
@@ -104,10 +105,11 @@ def cmd_stability(args) -> int:
     raw = read_json(Path(args.case))
     loaded = load_case(args.case, args.set)
     check_case(loaded)
-    duration, creep = _check_args(args, loaded)
+    duration, rate, floor = _check_args(args, loaded)
+    damping = trial_damping(loaded, rate, args.local_damping)
 
     def sets_of(f):
-        return list(args.set) + trial_sets(loaded, f, duration, args.damping)
+        return list(args.set) + trial_sets(loaded, f, duration, damping)
 
     load_case(args.case, sets_of(args.start))  # the trial case itself is valid before anything runs
     out = Path(args.out or Path("stability") / raw.get("name", Path(args.case).stem))
@@ -124,18 +126,19 @@ def cmd_stability(args) -> int:
         while not search.done() and len(rows) < MAX_TRIALS:
             factors = search.next_factors(pool.workers)
             for row in _round(pool, str(Path(args.case).resolve()), out, factors, sets_of, threads, len(rows)):
-                row.update(criterion.judge(read_series(Path(row["run_dir"]) / "series.csv"), creep))
+                row.update(criterion.judge(read_series(Path(row["run_dir"]) / "series.csv"), args.ratio, floor))
                 row["failed"] = row["failed"] or bool(row["error"])  # a run stopped by its health checks failed
                 search.record(row["factor"], row["failed"])
                 rows.append(row)
                 if not args.quiet and not args.json:
                     print(f"trial F = {row['factor']:.4f}: {'failed' if row['failed'] else 'stable'} "
-                          f"(last quarter {row['last_increment']:.3g} m, {row['wall_seconds']:.1f} s)", flush=True)
+                          f"(increment ratio {row['ratio']:.3g}, last quarter {row['last_increment']:.3g} m, "
+                          f"{row['wall_seconds']:.1f} s)", flush=True)
 
     rows.sort(key=lambda r: r["factor"])
     summary = {"case": str(args.case), **search.result(), "tolerance": args.tolerance,
-               "criterion": {"creep_cells": args.creep, "creep_m": creep, "duration_s": duration,
-                             "damping_alpha": args.damping},
+               "criterion": {"ratio": args.ratio, "floor_m": floor, "duration_s": duration,
+                             "damping_rate": rate, "local_damping": args.local_damping},
                "inconsistent": search.inconsistent(), "trials": rows}
     failed = [r for r in rows if r["failed"]]
     if failed:

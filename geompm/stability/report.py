@@ -93,8 +93,9 @@ def print_info(folder: Path) -> None:
     else:
         print(f"factor of safety  {summary['bound']}")
     c = summary["criterion"]
-    print(f"trials       {len(summary['trials'])}, {c['duration_s']:g} s each, local damping alpha "
-          f"{c['damping_alpha']:g}, failed when the largest displacement grew by >= {c['creep_m']:.3g} m over "
-          "the last quarter")
+    print(f"trials       {len(summary['trials'])}, {c['duration_s']:g} s each, viscous damping {c['damping_rate']:.3g} "
+          f"1/s" + (f" and local damping alpha {c['local_damping']:g}" if c["local_damping"] else "")
+          + f"; failed when the largest displacement's last-quarter increment was >= {c['ratio']:g} of the one "
+          "before")
     if summary.get("mechanism"):
         print(f"mechanism    {', '.join(summary['mechanism'])} (F = {summary['mechanism_factor']:.4f})")

@@ -33,7 +33,7 @@ def test_stability_json_files_and_info(tmp_path, capsys):
     assert hi - lo <= 0.05 + 1e-9 and summary["factor_of_safety"] == pytest.approx(0.5 * (lo + hi))
     assert summary["factor_of_safety"] == pytest.approx(limit_equilibrium(20.0, 30.0, 0.0), rel=0.06)
     trials = summary["trials"]
-    assert len(trials) >= 4 and all({"factor", "failed", "last_increment", "run_dir"} <= set(t) for t in trials)
+    assert len(trials) >= 4 and all({"factor", "failed", "ratio", "last_increment", "run_dir"} <= set(t) for t in trials)
     assert [t["factor"] for t in trials] == sorted(t["factor"] for t in trials)
     assert any(t["factor"] == hi and t["failed"] for t in trials) and any(t["factor"] == lo and not t["failed"]
                                                                           for t in trials)
@@ -54,8 +54,9 @@ def test_a_slope_failing_as_it_stands_is_reported_not_refused(tmp_path, capsys):
     assert summary["factor_of_safety"] == pytest.approx(limit_equilibrium(20.0, 15.0, 0.0), rel=0.08)
 
 
-@pytest.mark.parametrize("args, path", [(["--tolerance", "0"], "--tolerance"), (["--damping", "1.0"], "--damping"),
-                                        (["--creep", "-1"], "--creep"), (["--duration", "0"], "--duration")])
+@pytest.mark.parametrize("args, path", [(["--tolerance", "0"], "--tolerance"), (["--local-damping", "1.0"], "--local-damping"),
+                                        (["--ratio", "-1"], "--ratio"), (["--duration", "0"], "--duration"),
+                                        (["--damping-rate", "0"], "--damping-rate")])
 def test_bad_options_are_refused_before_any_trial(tmp_path, capsys, args, path):
     case = _case(tmp_path)
     assert main(["stability", str(case), "--out", str(tmp_path / "s"), *args]) == 2

@@ -65,13 +65,16 @@ def _series(u):
 
 
 def test_criterion_on_synthetic_histories():
-    """At rest (u_inf (1 - exp(-t / 0.1))): its last-quarter increment is u_inf e^-15, stable; a steady
-    slide at 0.05 m/s moves 25 mm in the last 0.5 s, failed at a 10 mm threshold and stable at 30 mm;
-    an accelerating one (0.1 t^2) failed with an increment ratio (2^2 - 1.5^2) / (1.5^2 - 1) = 1.4."""
-    rest = judge(_series(lambda t: 0.02 * (1 - np.exp(-t / 0.1))), creep=0.01)
-    assert not rest["failed"] and rest["last_increment"] == pytest.approx(0.02 * (np.exp(-15) - np.exp(-20)), rel=1e-3)
-    slide = judge(_series(lambda t: 0.05 * t), creep=0.01)
+    """At rest (u_inf (1 - exp(-t / 0.4))): its increments shrink by exp(-0.5 / 0.4) = 0.287 per quarter,
+    stable at ratio 0.7; a steady slide at 0.05 m/s has ratio 1, failed, but not with a floor above its
+    25 mm; an accelerating one (0.1 t^2) has ratio (2^2 - 1.5^2) / (1.5^2 - 1) = 1.4; a slope at rest
+    whose last increments are round-off (1e-12 m, ratio 1) is stable under the floor."""
+    rest = judge(_series(lambda t: 0.02 * (1 - np.exp(-t / 0.4))), ratio=0.7, floor=1e-4)
+    assert not rest["failed"] and rest["ratio"] == pytest.approx(np.exp(-0.5 / 0.4), rel=1e-2)
+    assert judge(_series(lambda t: 0.02 * (1 - np.exp(-t / 0.4))), ratio=0.25, floor=1e-4)["failed"]
+    slide = judge(_series(lambda t: 0.05 * t), ratio=0.7, floor=1e-4)
     assert slide["failed"] and slide["last_increment"] == pytest.approx(0.025) and slide["ratio"] == pytest.approx(1.0)
-    assert not judge(_series(lambda t: 0.05 * t), creep=0.03)["failed"]
-    fast = judge(_series(lambda t: 0.1 * t * t), creep=0.01)
+    assert not judge(_series(lambda t: 0.05 * t), ratio=0.7, floor=0.03)["failed"]
+    fast = judge(_series(lambda t: 0.1 * t * t), ratio=0.7, floor=1e-4)
     assert fast["failed"] and fast["ratio"] == pytest.approx(1.4)
+    assert not judge(_series(lambda t: 0.01 + 1e-12 * t), ratio=0.7, floor=1e-4)["failed"]
