@@ -1,7 +1,7 @@
 """The infinite-slope tables of docs/slope-stability.md: `geompm stability` at three cell sizes against the
 closed forms, and the factor's sensitivity to the trials' local damping and to the failure criterion.
 
-    python benchmarks/stability/infinite_slope_table.py OUT_FOLDER > table.txt
+    python benchmarks/stability/infinite_slope_table.py OUT_FOLDER [main|sensitivity] > table.txt
 
 Cases (tests/support/slopes.py): beta = 20 deg, phi = 30 deg, 1 m deep, gamma = 2000 x 9.81 N/m3.
   associated (psi = phi), c = 0:        F = tan(phi) / tan(beta) = 1.5863
@@ -55,29 +55,34 @@ def line(label, s, ref):
 
 def main():
     out = Path(sys.argv[1])
+    part = sys.argv[2] if len(sys.argv) > 2 else "main"
     out.mkdir(parents=True, exist_ok=True)
-    print(__doc__.split("Cases")[0].strip().splitlines()[0])
-    print("2-core development machine, 2 trials in flight, 1 thread each; tolerance 0.01; trials 2 s "
-          "(F0 for 0.5 s, ramp 0.5 s, hold 1 s), viscous damping 20 1/s, increment ratio 0.7\n")
-    for label, kw, ref in (("associated, c = 0", {}, limit_equilibrium(20, 30, 0)),
-                           ("associated, c = 2 kPa", {"cohesion": 2000.0}, limit_equilibrium(20, 30, 2000)),
-                           ("psi = 0, c = 0 (Mohr-Coulomb, Davis)", {"dilation": 0.0, "model": "mohr_coulomb"}, davis())):
-        for h in (0.1, 0.05, 0.025):
-            name = f"{label.split(',')[0].replace(' ', '_').replace('=', '')}_{kw.get('cohesion', 0):g}_{h:g}"
-            print(line(f"{label}, h = {h:g} m", run(out, name, infinite_slope_case(h, **kw)), ref), flush=True)
-    for label, kw, ref in (("associated, c = 2 kPa", {"cohesion": 2000.0}, limit_equilibrium(20, 30, 2000)),):
-        print(f"\nfailure criterion: increment ratio ({label}, h = 0.05 m):")
-        for r in (0.5, 0.9):
-            print(line(f"ratio = {r:g}", run(out, f"ratio_{r:g}", infinite_slope_case(0.05, **kw), "--ratio", str(r)),
-                       ref), flush=True)
-        print(f"\ntrial duration and damping rate ({label}, h = 0.05 m):")
-        for extra in (("--duration", "4"), ("--damping-rate", "10"), ("--damping-rate", "40")):
-            print(line(" ".join(extra), run(out, "_".join(extra).strip("-"), infinite_slope_case(0.05, **kw), *extra),
-                       ref), flush=True)
-        print(f"\nCundall local damping added to the viscous one ({label}):")
-        for h in (0.1, 0.05, 0.025):
-            print(line(f"alpha = 0.02, h = {h:g} m", run(out, f"local_{h:g}", infinite_slope_case(h, **kw),
-                                                          "--local-damping", "0.02"), ref), flush=True)
+    print("2-core development machine, 2 trials in flight, 1 thread each; tolerance 0.01; trials T = 2 s unless "
+          "said (F0 for T/4, ramp over T/4, hold T/2), viscous damping 40 / T, increment ratio 0.5 unless said\n")
+    cases = (("associated, c = 0", {}, limit_equilibrium(20, 30, 0)),
+             ("associated, c = 2 kPa", {"cohesion": 2000.0}, limit_equilibrium(20, 30, 2000)),
+             ("psi = 0, c = 0 (Mohr-Coulomb, Davis)", {"dilation": 0.0, "model": "mohr_coulomb"}, davis()))
+    if part == "main":
+        for label, kw, ref in cases:
+            for duration in ((2.0, 4.0) if "associated" in label else (2.0,)):
+                for h in (0.1, 0.05, 0.025):
+                    name = f"{label.split(',')[0].replace(' ', '_').replace('=', '')}_{kw.get('cohesion', 0):g}_{h:g}_T{duration:g}"
+                    print(line(f"{label}, T = {duration:g} s, h = {h:g} m",
+                               run(out, name, infinite_slope_case(h, end=duration, **kw)), ref), flush=True)
+        return
+    label, kw, ref = cases[1]
+    print(f"failure criterion: increment ratio ({label}, h = 0.05 m):")
+    for r in (0.5, 0.7, 0.9):
+        print(line(f"ratio = {r:g}", run(out, f"ratio_{r:g}", infinite_slope_case(0.05, **kw), "--ratio", str(r)), ref),
+              flush=True)
+    print(f"\ntrial duration and damping rate ({label}, h = 0.05 m):")
+    for extra in (("--duration", "4"), ("--damping-rate", "10"), ("--damping-rate", "40")):
+        print(line(" ".join(extra), run(out, "_".join(extra).strip("-"), infinite_slope_case(0.05, **kw), *extra), ref),
+              flush=True)
+    print(f"\nCundall local damping added to the viscous one ({label}):")
+    for h in (0.1, 0.05, 0.025):
+        print(line(f"alpha = 0.02, h = {h:g} m", run(out, f"local_{h:g}", infinite_slope_case(h, **kw),
+                                                      "--local-damping", "0.02"), ref), flush=True)
 
 if __name__ == "__main__":
     main()

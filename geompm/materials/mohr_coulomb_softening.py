@@ -5,7 +5,7 @@ Each step takes c, phi and psi at the particle's plastic strain at the start of 
 the curve, linear or exponential, and its regularisation by the cell size), then returns the Kirchhoff
 trial stress to that hexagon exactly as mohr_coulomb.mc_update does (de Souza Neto, Peric & Owen 2008,
 sec. 8.2).  The dilatancy cut-off acts as in mohr_coulomb.py.  Softening laws: Soga et al. (2016,
-Geotechnique 66(3):248), Yerro, Alonso & Pinyol (2016, Computers and Geotechnics 73:106).
+Geotechnique 66(3):248), Yerro, Alonso & Pinyol (2016, Computers and Geotechnics 80:427).
 """
 
 from __future__ import annotations

@@ -11,7 +11,7 @@ the deviatoric plastic strain) grows past ``start`` (eps_1):
 (x = x_p before eps_1; linear: x = x_r after eps_2; exponential: 1 % of the drop remains at eps_2).  The
 angles are interpolated in degrees.  The strength of the step comes from eps_p at its start (an explicit
 update; a step's plastic strain increment is a small fraction of eps_2 - eps_1 at the Courant numbers of
-an explicit MPM run).  Yerro, Alonso & Pinyol (2016, Computers and Geotechnics 73:106) use the exponential
+an explicit MPM run).  Yerro, Alonso & Pinyol (2016, Computers and Geotechnics 80:427) use the exponential
 form; Soga et al. (2016, Geotechnique 66(3):248) the linear one.
 
 Regularisation.  Softening localises into a shear band about one cell wide, so with thresholds fixed in

@@ -8,7 +8,7 @@ failed when, over its last two quarters,
 
     r = (u(T) - u(3T/4)) / (u(3T/4) - u(T/2)) >= ratio     and     u(T) - u(3T/4) >= floor,
 
-with ``ratio`` 0.7 by default and ``floor`` a thousandth of the cell size (increments below it are the
+with ``ratio`` 0.5 by default and ``floor`` a thousandth of the cell size (increments below it are the
 round-off of a slope at rest, whose ratio means nothing).  The criterion has no displacement scale: a
 failing slope just past its limit moves slowly but steadily (r near 1), a stable one just below it slowly
 and ever more slowly.  docs/slope-stability.md shows how the factor of safety moves with ``ratio`` and
@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-DEFAULT_RATIO = 0.7
+DEFAULT_RATIO = 0.5
 FLOOR_CELLS = 1e-3
 
 

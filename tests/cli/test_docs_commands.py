@@ -8,7 +8,7 @@ install lines are tests/repository/test_repository.py's).  Each is checked as fa
 - ``validate``, ``plugins`` and ``schema`` (into a temporary file) run to completion with exit 0;
 - the README's ``run`` -> ``info`` -> ``plot`` sequence on the elastic bar runs for real (in a temporary
   folder, so ``runs/bar_fine`` lands there);
-- ``run --resume``, ``study``, ``calibrate`` and ``cuda-check`` (minutes to hours) are not run; their case
+- ``run --resume``, ``study``, ``stability``, ``calibrate`` and ``cuda-check`` (minutes to hours) are not run; their case
   files are loaded with every ``--set``, each ``--vary`` value and each ``--sample`` path applied
   (geompm.schema.load_case: an example that varies a material the case does not have fails here, as
   the landslide's ``materials.soil`` did);
@@ -73,7 +73,7 @@ def test_command_parses_and_its_case_loads(where, line, monkeypatch):
         scenes = json.loads((ROOT / "benchmarks" / "scenes.json").read_text())
         assert all(s in scenes for s in (args.scene or [])), f"{where}: unknown scene in {args.scene}"
         return
-    if cmd in ("run", "study", "cuda-check"):
+    if cmd in ("run", "study", "stability", "cuda-check"):
         cases = [args.case]
     elif cmd == "calibrate":
         cases = list(args.soil_cases) + [args.fluid]

@@ -41,3 +41,38 @@ def limit_equilibrium(slope: float, friction: float, cohesion: float, depth: flo
     Slope Stability, 2nd ed., sec. 6.2)."""
     b, phi = math.radians(slope), math.radians(friction)
     return cohesion / (density * 9.81 * depth * math.cos(b) ** 2 * math.tan(b)) + math.tan(phi) / math.tan(b)
+
+
+def biaxial_case(cell_size: float, reference_cell_size: float | None, end: float = 1.5, speed: float = 0.02) -> dict:
+    """Plane-strain compression of a softening sample 1 m wide and 2 m high between a smooth base and a smooth
+    rigid platen moving down at ``speed`` [m/s], sides free, no gravity.  drucker_prager_softening with
+    phi = psi = 0 (so the strength is c alone): c falls linearly from 100 kPa to 50 kPa between eps_p = 0 and
+    0.05 (thresholds of a band ``reference_cell_size`` wide; None: strains at every cell size).  A weaker
+    corner (0.2 m x 0.2 m at the bottom left, c peak 90 kPa) seeds the band.  E = 50 MPa, nu = 0.3,
+    rho = 2000 kg/m3; viscous damping at 20 1/s; quadratic shape functions; the platen's force is the series
+    column platen_fy [N/m]."""
+    def soil(c):
+        return {"model": "drucker_prager_softening", "density": 2000.0, "youngs_modulus": 5.0e7, "poisson_ratio": 0.3,
+                "friction_angle": 0.0, "cohesion": c, "dilation_angle": 0.0, "residual_cohesion": 5.0e4,
+                "residual_friction_angle": 0.0,
+                "softening": {"start": 0.0, "end": 0.05, "shape": "linear", "reference_cell_size": reference_cell_size}}
+
+    box = lambda lo, hi: {"type": "box", "min": lo, "max": hi}  # noqa: E731
+    return {
+        "name": "biaxial",
+        "description": "plane-strain compression of a softening sample (docs/slope-stability.md)",
+        "dimension": 2,
+        "grid": {"origin": [0.0, 0.0], "extent": [2.0, 2.8], "cell_size": cell_size, "shape_function": "quadratic"},
+        "time": {"end": end, "cfl": 0.3},
+        "gravity": [0.0, 0.0],
+        "solver": {"transfer": "apic", "update": "usl"},
+        "materials": {"soil": soil(1.0e5), "weak": soil(9.0e4)},
+        "bodies": [{"material": "weak", "geometry": box([0.5, 0.0], [0.7, 0.2]), "particles_per_cell": 2},
+                   {"material": "soil", "geometry": box([0.7, 0.0], [1.5, 0.2]), "particles_per_cell": 2},
+                   {"material": "soil", "geometry": box([0.5, 0.2], [1.5, 2.0]), "particles_per_cell": 2}],
+        "boundaries": [{"type": "wall", "side": "y-", "condition": "slip"}],
+        "obstacles": [{"type": "box", "name": "platen", "min": [0.2, 2.0], "max": [1.8, 2.5], "condition": "slip",
+                       "velocity": [0.0, -speed]}],
+        "damping": [{"model": "artificial", "xi": 1e-3, "reference_cell_size": 1e-3 * math.sqrt(5.0e7 / 2000.0) / 20.0}],
+        "outputs": [{"writer": "series", "interval": end / 150}],
+    }
