@@ -12,12 +12,11 @@ from __future__ import annotations
 import math
 
 from numba import njit
-from pydantic import model_validator
 
 from geompm.contract.layout import param_layout
 from geompm.materials.drucker_prager import CONES, DruckerPrager, DruckerPragerParams, dp_cone, dp_return
 from geompm.materials.plasticity import ELASTIC, current_moduli, kirchhoff_trial
-from geompm.materials.softening import SOFT, SofteningFields, at_cell_size, pack_softening, reduce_softening, strength_at
+from geompm.materials.softening import SOFT, SofteningFields, SofteningLaw, pack_softening, strength_at
 
 #: packed parameters: ELASTIC, SOFT, the cone's index in drucker_prager.CONES, the given tension cut-off [Pa]
 #: (inf: the apex), the dilatancy cut-off eps_v^p [-] (inf: none)
@@ -26,9 +25,7 @@ SOFT_BASE = len(ELASTIC._fields)
 
 
 class DruckerPragerSofteningParams(DruckerPragerParams, SofteningFields):
-    @model_validator(mode="after")
-    def _residual(self):
-        return self.check_residual()
+    """The law's parameters and the residual strength and softening curve (softening.SofteningFields)."""
 
 
 @njit(cache=True)
@@ -47,7 +44,7 @@ def dp_softening_stress(prm, dt, L, rho, s, state):
     dp_return(s, state, tr, lam + 2.0 * G / 3.0, G, alpha, k, beta, tcut)
 
 
-class DruckerPragerSoftening(DruckerPrager):
+class DruckerPragerSoftening(SofteningLaw, DruckerPrager):
     name = "drucker_prager_softening"
     backends = ("cpu",)
     description = "Drucker-Prager soil softening from peak to residual with plastic shear strain, regularised by the cell size"
@@ -60,17 +57,3 @@ class DruckerPragerSoftening(DruckerPrager):
         return {**cls.elastic_pack(p), **pack_softening(p), "cone": float(CONES.index(p.cone)),
                 "tension_cutoff": math.inf if p.tension_cutoff is None else p.tension_cutoff,
                 "dilation_cutoff": p.cutoff()}
-
-    @classmethod
-    def at_cell_size(cls, params, cell_size: float):
-        return at_cell_size(params, cell_size)
-
-    @classmethod
-    def strength_reduced(cls, params, factor: float) -> dict:
-        return reduce_softening(params, factor)
-
-    @classmethod
-    def example_params(cls):
-        return cls.Params(density=2650.0, youngs_modulus=0.84e6, poisson_ratio=0.3, friction_angle=31.0,
-                          cohesion=100.0, dilation_angle=5.0, residual_cohesion=0.0, residual_friction_angle=22.0,
-                          softening={"start": 0.0, "end": 0.05})

@@ -13,12 +13,11 @@ from __future__ import annotations
 import math
 
 from numba import njit
-from pydantic import model_validator
 
 from geompm.contract.layout import param_layout
 from geompm.materials.mohr_coulomb import MohrCoulomb, MohrCoulombParams, mc_update
 from geompm.materials.plasticity import ELASTIC, current_moduli, kirchhoff_trial
-from geompm.materials.softening import SOFT, SofteningFields, at_cell_size, pack_softening, reduce_softening, strength_at
+from geompm.materials.softening import SOFT, SofteningFields, SofteningLaw, pack_softening, strength_at
 
 #: packed parameters: ELASTIC, SOFT, the dilatancy cut-off eps_v^p [-] (inf: none)
 MCS = param_layout(ELASTIC, SOFT, "dilation_cutoff")
@@ -26,9 +25,7 @@ SOFT_BASE = len(ELASTIC._fields)
 
 
 class MohrCoulombSofteningParams(MohrCoulombParams, SofteningFields):
-    @model_validator(mode="after")
-    def _residual(self):
-        return self.check_residual()
+    """The law's parameters and the residual strength and softening curve (softening.SofteningFields)."""
 
 
 @njit(cache=True)
@@ -41,7 +38,7 @@ def mc_softening_stress(prm, dt, L, rho, s, state):
     mc_update(s, state, tr, lam, G, math.sin(phi), math.cos(phi), spsi, c)
 
 
-class MohrCoulombSoftening(MohrCoulomb):
+class MohrCoulombSoftening(SofteningLaw, MohrCoulomb):
     name = "mohr_coulomb_softening"
     backends = ("cpu",)
     description = "Mohr-Coulomb soil softening from peak to residual with plastic shear strain, regularised by the cell size"
@@ -52,17 +49,3 @@ class MohrCoulombSoftening(MohrCoulomb):
     @classmethod
     def pack(cls, p):
         return {**cls.elastic_pack(p), **pack_softening(p), "dilation_cutoff": p.cutoff()}
-
-    @classmethod
-    def at_cell_size(cls, params, cell_size: float):
-        return at_cell_size(params, cell_size)
-
-    @classmethod
-    def strength_reduced(cls, params, factor: float) -> dict:
-        return reduce_softening(params, factor)
-
-    @classmethod
-    def example_params(cls):
-        return cls.Params(density=2650.0, youngs_modulus=0.84e6, poisson_ratio=0.3, friction_angle=31.0,
-                          cohesion=100.0, dilation_angle=5.0, residual_cohesion=0.0, residual_friction_angle=22.0,
-                          softening={"start": 0.0, "end": 0.05})

@@ -75,7 +75,8 @@ class SofteningFields(BaseModel):
     residual_dilation_angle: float = Field(0.0, ge=0.0, lt=90.0, description="Residual dilation angle psi_r [deg]")
     softening: SofteningSpec = Field(description="Where and how the strength falls from peak to residual")
 
-    def check_residual(self):
+    @model_validator(mode="after")
+    def _residual(self):
         problems = [f"{r} ({getattr(self, r):g}) must not exceed the peak {p} ({getattr(self, p):g})"
                     for r, p in (("residual_cohesion", "cohesion"), ("residual_friction_angle", "friction_angle"),
                                  ("residual_dilation_angle", "dilation_angle"))
@@ -87,13 +88,29 @@ class SofteningFields(BaseModel):
         return self
 
 
-def at_cell_size(params, cell_size: float):
-    """``params`` with the softening thresholds of a band ``cell_size`` wide (module docstring)."""
-    sp = params.softening
-    if sp.reference_cell_size is None:
-        return params
-    r = sp.reference_cell_size / cell_size
-    return params.model_copy(update={"softening": sp.model_copy(update={"start": sp.start * r, "end": sp.end * r})})
+class SofteningLaw:
+    """What the softening laws share beside their kernel: the thresholds at the cell size, the strength
+    reduction of peak and residual, and the conformance suite's example (a mixin before the law's base)."""
+
+    @classmethod
+    def at_cell_size(cls, params, cell_size: float):
+        """``params`` with the softening thresholds of a band ``cell_size`` wide (module docstring)."""
+        sp = params.softening
+        if sp.reference_cell_size is None:
+            return params
+        r = sp.reference_cell_size / cell_size
+        return params.model_copy(update={"softening": sp.model_copy(update={"start": sp.start * r,
+                                                                             "end": sp.end * r})})
+
+    @classmethod
+    def strength_reduced(cls, params, factor: float) -> dict:
+        return reduce_softening(params, factor)
+
+    @classmethod
+    def example_params(cls):
+        return cls.Params(density=2650.0, youngs_modulus=0.84e6, poisson_ratio=0.3, friction_angle=31.0,
+                          cohesion=100.0, dilation_angle=5.0, residual_cohesion=0.0, residual_friction_angle=22.0,
+                          softening={"start": 0.0, "end": 0.05})
 
 
 def pack_softening(p) -> dict:

@@ -70,7 +70,7 @@ def _check_args(args, loaded) -> tuple[float, float, float]:
     duration = float(args.duration if args.duration is not None else loaded.case.time.end)
     if not duration > 0.0:
         problems.append(("--duration", f"{duration:g} s: give the simulated time of a trial in seconds"))
-    rate = 40.0 / duration if args.damping_rate is None else float(args.damping_rate)
+    rate = (40.0 / duration if duration > 0.0 else 1.0) if args.damping_rate is None else float(args.damping_rate)
     if duration > 0.0 and not rate > 0.0:
         problems.append(("--damping-rate", f"{rate:g}: give a viscous damping rate in 1/s, e.g. {40.0 / duration:.3g}"))
     if args.workers is not None and args.workers < 1:

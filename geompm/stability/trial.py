@@ -3,9 +3,12 @@
 A trial is an ordinary run of the case with ``--set`` overrides (so its folder is a run folder that
 ``geompm info`` reads), over ``duration`` T:
 
-- the strength trigger (schema: triggers.strength_reduction) holds F0 = min(1, F) for the first quarter
-  (the case comes to equilibrium from its initial state with the strength it has), ramps to F over the
-  second quarter and holds F for the second half; criterion.py reads the last quarter.  Every material
+- the strength trigger (schema: triggers.strength_reduction) holds F0 for the first quarter (the case
+  comes to equilibrium from its initial state), ramps to F over the second quarter and holds F for the
+  second half: F0 = 1, the soil as it is, for F >= 1; for F < 1, where the soil as it is cannot stand,
+  F0 = F / 2, twice the trial's strength (starting at F itself let the dynamic response to the initial
+  imbalance fail a slope that stands: on the infinite slope with phi = 15 deg on beta = 20 deg, h = 0.2 m,
+  F came out 0.654 against tan(phi) / tan(beta) = 0.736); criterion.py reads the last quarter.  Every material
   whose law declares ``strength_reduction`` is reduced; others (a fluid, an elastic base) keep theirs.
   Any trigger of the case is replaced: the factor of safety is that of the slope before its trigger;
 - the damping becomes mass-proportional viscous damping f = -zeta m v at one rate zeta [1/s] for every
@@ -62,7 +65,7 @@ def trial_damping(loaded, rate: float, alpha: float) -> list[dict]:
 
 def trial_sets(loaded, factor: float, duration: float, damping: list[dict]) -> list[str]:
     """The --set overrides of the trial at ``factor``."""
-    f0 = min(1.0, factor)
+    f0 = 1.0 if factor >= 1.0 else 0.5 * factor
     trigger = {"strength_reduction": {"times": [0.0, 0.25 * duration, 0.5 * duration],
                                       "factors": [f0, f0, float(factor)], "materials": reducible_materials(loaded)}}
     outputs = [{"writer": "series", "interval": duration / SERIES_ROWS, "displacement": True},
