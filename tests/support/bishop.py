@@ -99,14 +99,16 @@ def bishop_factor(surface, xc, yc, R, c, phi_deg, gamma, base=-np.inf, slices=80
 
 
 def critical_circle(surface, c, phi_deg, gamma, centres, radii, base=-np.inf, refine=4, **kw):
-    """(least F, (xc, yc, R)) over the grid ``centres`` (xs, ys) x ``radii``, then ``refine`` times over a grid
-    three times finer around the best circle found."""
+    """(least F, (xc, yc, R)) over the grid ``centres`` (xs, ys) x ``radii`` (and, for each centre, the circle
+    tangent to a finite ``base``, where the critical circle of a slope on a firm layer often lies), then
+    ``refine`` times over a grid three times finer around the best circle found."""
     xs, ys, rs = (np.asarray(a, float) for a in (*centres, radii))
     best = (math.inf, None)
     for level in range(refine + 1):
         for xc in xs:
             for yc in ys:
-                for R in rs:
+                tangent = [yc - base] if np.isfinite(base) and yc > base else []  # the circle touching the base
+                for R in [*rs, *tangent]:
                     F = bishop_factor(surface, xc, yc, R, c, phi_deg, gamma, base=base, **kw)
                     if F is not None and F < best[0]:
                         best = (F, (float(xc), float(yc), float(R)))

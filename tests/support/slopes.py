@@ -76,3 +76,33 @@ def biaxial_case(cell_size: float, reference_cell_size: float | None, end: float
         "damping": [{"model": "artificial", "xi": 1e-3, "reference_cell_size": 1e-3 * math.sqrt(5.0e7 / 2000.0) / 20.0}],
         "outputs": [{"writer": "series", "interval": end / 150}],
     }
+
+
+def griffiths_lane_case(cell_size: float, end: float = 3.0, model: str = "drucker_prager", friction: float = 20.0,
+                        cohesion: float = 1.0e4) -> dict:
+    """Griffiths & Lane's (1999, Geotechnique 49(3):387) first example: a 2:1 slope 10 m high on a rigid rough
+    base at the toe's level (no foundation layer), phi' = 20 deg, psi = 0, c' / (gamma H) = 0.05 (gamma = 20
+    kN/m3, c' = 10 kPa), E = 100 MPa, nu = 0.3 (their values).  The soil runs 12 m behind the crest (x = 0 to
+    12 m) to a smooth back wall; the slope from the crest (12, 10) to the toe (32, 0); the grid reaches
+    x = 42 m.  Geostatic initial stress, linear shape functions, 2x2 particles per cell.  ``friction`` and
+    ``cohesion`` give the other slopes of docs/slope-stability.md on the same geometry (phi = 0: undrained)."""
+    rho = 20000.0 / 9.81
+    return {
+        "name": "griffiths_lane_1",
+        "description": "Griffiths & Lane (1999) example 1: 2:1 slope, H = 10 m, phi' 20 deg, c'/(gamma H) = 0.05, "
+                       "rigid base at the toe (docs/slope-stability.md)",
+        "dimension": 2,
+        "grid": {"origin": [0.0, 0.0], "extent": [42.0, 10.0 + 4 * cell_size], "cell_size": cell_size,
+                 "shape_function": "linear"},
+        "time": {"end": end, "cfl": 0.4},
+        "gravity": [0.0, -9.81],
+        "solver": {"transfer": "apic", "update": "usl"},
+        "materials": {"soil": {"model": model, "density": rho, "youngs_modulus": 1.0e8, "poisson_ratio": 0.3,
+                               "friction_angle": friction, "cohesion": cohesion, "dilation_angle": 0.0}},
+        "bodies": [{"material": "soil", "geometry": {"type": "polygon",
+                                                     "vertices": [[0.0, 0.0], [32.0, 0.0], [12.0, 10.0], [0.0, 10.0]]},
+                    "particles_per_cell": 2, "initial_stress": "geostatic"}],
+        "boundaries": [{"type": "wall", "side": "y-", "condition": "fixed"},
+                       {"type": "wall", "side": "x-", "condition": "slip"}],
+        "outputs": [{"writer": "series", "interval": end / 40}],
+    }
