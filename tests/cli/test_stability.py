@@ -3,7 +3,7 @@
 
 The slope (tests/support/slopes.py) is cohesionless with phi = 30 deg on beta = 20 deg, associated, so its
 limit-equilibrium factor of safety is tan(phi) / tan(beta) = 1.586 (Taylor 1948); at h = 0.2 m and a
-tolerance of 0.05 the search must bracket it within that tolerance plus the coarse grid's few per cent."""
+tolerance of 0.1 the search must bracket it within that tolerance plus the coarse grid's few per cent."""
 
 from __future__ import annotations
 
@@ -26,11 +26,11 @@ def _case(tmp_path, **kw):
 def test_stability_json_files_and_info(tmp_path, capsys):
     case = _case(tmp_path)
     out = tmp_path / "stab"
-    assert main(["stability", str(case), "--out", str(out), "--json", "--tolerance", "0.05", "--workers", "2",
+    assert main(["stability", str(case), "--out", str(out), "--json", "--tolerance", "0.1", "--workers", "2",
                  "--threads", "1"]) == 0
     summary = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     lo, hi = summary["bracket"]
-    assert hi - lo <= 0.05 + 1e-9 and summary["factor_of_safety"] == pytest.approx(0.5 * (lo + hi))
+    assert hi - lo <= 0.1 + 1e-9 and summary["factor_of_safety"] == pytest.approx(0.5 * (lo + hi))
     assert summary["factor_of_safety"] == pytest.approx(limit_equilibrium(20.0, 30.0, 0.0), rel=0.06)
     trials = summary["trials"]
     assert len(trials) >= 4 and all({"factor", "failed", "ratio", "last_increment", "run_dir"} <= set(t) for t in trials)
@@ -47,7 +47,7 @@ def test_stability_json_files_and_info(tmp_path, capsys):
 def test_a_slope_failing_as_it_stands_is_reported_not_refused(tmp_path, capsys):
     """phi = 15 deg on beta = 20 deg: F = tan 15 / tan 20 = 0.736 < 1, reported with its bracket."""
     case = _case(tmp_path, friction=15.0, dilation=15.0)
-    assert main(["stability", str(case), "--out", str(tmp_path / "s"), "--json", "--tolerance", "0.05",
+    assert main(["stability", str(case), "--out", str(tmp_path / "s"), "--json", "--tolerance", "0.1",
                  "--workers", "2", "--threads", "1"]) == 0
     summary = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     assert summary["bracket"][1] < 1.0
