@@ -11,7 +11,6 @@ finest one's force there.
 
 from __future__ import annotations
 
-import json
 import sys
 import time
 from pathlib import Path
