@@ -61,6 +61,11 @@ def cmd_validate(args) -> int:
     _step_limits(scene)
     for line in pore_water_lines(scene):
         print(line)
+    if scene.strength_trigger is not None:
+        times, factors, ids = scene.strength_trigger
+        names = ", ".join(scene.material_names[k] for k in ids)
+        points = ", ".join(f"{f:g} at {t:g} s" for t, f in zip(times, factors))
+        print(f"strength trigger: the strength of {names} divided by F = {points} (linear between, held outside)")
     viscous_warning(loaded, scene, print)
     stage_warnings(scene, print, loaded)
     return 0

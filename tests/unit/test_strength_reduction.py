@@ -112,3 +112,14 @@ def test_trigger_reaches_the_scene():
     scene = assemble(loaded)
     times, factors, ids = scene.strength_trigger
     assert times == (0.0, 1.0) and factors == (1.0, 1.5) and [scene.material_names[i] for i in ids] == ["soil"]
+
+
+def test_validate_reports_the_trigger(tmp_path, capsys):
+    import json
+
+    from geompm.cli import main
+
+    case = tmp_path / "t.json"
+    case.write_text(json.dumps(_dp_case(triggers={"strength_reduction": {"times": [0.0, 2.0], "factors": [1.0, 1.5]}})))
+    assert main(["validate", str(case)]) == 0
+    assert "strength trigger: the strength of soil divided by F = 1 at 0 s, 1.5 at 2 s" in capsys.readouterr().out
