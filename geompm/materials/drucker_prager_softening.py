@@ -21,7 +21,6 @@ from geompm.materials.softening import SOFT, SofteningFields, SofteningLaw, pack
 #: packed parameters: ELASTIC, SOFT, the cone's index in drucker_prager.CONES, the given tension cut-off [Pa]
 #: (inf: the apex), the dilatancy cut-off eps_v^p [-] (inf: none)
 DPS = param_layout(ELASTIC, SOFT, "cone", "tension_cutoff", "dilation_cutoff")
-SOFT_BASE = len(ELASTIC._fields)
 
 
 class DruckerPragerSofteningParams(DruckerPragerParams, SofteningFields):
@@ -32,7 +31,7 @@ class DruckerPragerSofteningParams(DruckerPragerParams, SofteningFields):
 def dp_softening_stress(prm, dt, L, rho, s, state):
     """One particle's softening DP return (module docstring); s (6,) and state (2,) in place."""
     lam, G = current_moduli(prm, rho)
-    phi, psi, c = strength_at(prm, SOFT_BASE, state[0])
+    phi, psi, c = strength_at(prm, state[0])
     if state[1] >= prm[DPS.dilation_cutoff]:
         psi = 0.0
     alpha, kc, beta = dp_cone(math.sin(phi), math.cos(phi), math.sin(psi), int(prm[DPS.cone]))

@@ -21,7 +21,6 @@ from geompm.materials.softening import SOFT, SofteningFields, SofteningLaw, pack
 
 #: packed parameters: ELASTIC, SOFT, the dilatancy cut-off eps_v^p [-] (inf: none)
 MCS = param_layout(ELASTIC, SOFT, "dilation_cutoff")
-SOFT_BASE = len(ELASTIC._fields)
 
 
 class MohrCoulombSofteningParams(MohrCoulombParams, SofteningFields):
@@ -32,7 +31,7 @@ class MohrCoulombSofteningParams(MohrCoulombParams, SofteningFields):
 def mc_softening_stress(prm, dt, L, rho, s, state):
     """One particle's softening MC return (module docstring); s (6,) and state (2,) in place."""
     lam, G = current_moduli(prm, rho)
-    phi, psi, c = strength_at(prm, SOFT_BASE, state[0])
+    phi, psi, c = strength_at(prm, state[0])
     spsi = math.sin(psi) if state[1] < prm[MCS.dilation_cutoff] else 0.0
     tr = kirchhoff_trial(s, L, dt, lam, G)
     mc_update(s, state, tr, lam, G, math.sin(phi), math.cos(phi), spsi, c)

@@ -37,7 +37,7 @@ from numba import njit
 from pydantic import BaseModel, Field, model_validator
 
 from geompm.contract.layout import param_layout
-from geompm.materials.plasticity import reduced_angles
+from geompm.materials.plasticity import ELASTIC, reduced_angles
 
 LN100 = math.log(100.0)
 
@@ -45,6 +45,8 @@ LN100 = math.log(100.0)
 #: eps_2 at this cell size [-], 1.0 for the exponential curve (0.0 linear)
 SOFT = param_layout("phi_peak", "phi_residual", "psi_peak", "psi_residual", "c_peak", "c_residual",
                     "soft_start", "soft_end", "soft_exponential")
+#: where SOFT starts in a softening law's layout: right after ELASTIC, param_layout(ELASTIC, SOFT, ...)
+SOFT_BASE = len(ELASTIC._fields)
 
 
 class SofteningSpec(BaseModel):
@@ -144,8 +146,10 @@ def softened(peak, residual, eps, start, end, exponential):
 
 
 @njit(cache=True, inline="always")
-def strength_at(prm, base, eps):
-    """(phi, psi [rad], c [Pa]) at plastic strain eps, from the SOFT slots that start at ``base``."""
+def strength_at(prm, eps):
+    """(phi, psi [rad], c [Pa]) at plastic strain eps, from the SOFT slots of a layout that starts
+    ELASTIC, SOFT (SOFT_BASE)."""
+    base = SOFT_BASE
     a, b, x = prm[base + SOFT.soft_start], prm[base + SOFT.soft_end], prm[base + SOFT.soft_exponential]
     return (softened(prm[base + SOFT.phi_peak], prm[base + SOFT.phi_residual], eps, a, b, x),
             softened(prm[base + SOFT.psi_peak], prm[base + SOFT.psi_residual], eps, a, b, x),

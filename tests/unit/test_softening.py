@@ -14,7 +14,7 @@ import pytest
 
 from geompm.contract.registry import get
 from geompm.errors import CaseError
-from geompm.materials.softening import LN100, softened
+from geompm.materials.softening import LN100, SOFT_BASE, softened
 from geompm.schema.load import parse_case
 from tests.support.cases import tiny_case
 
@@ -41,6 +41,7 @@ def test_thresholds_scale_with_the_cell(name):
     assert (q.softening.start, q.softening.end) == pytest.approx((0.02, 0.10))
     assert law.at_cell_size(_params(name)[1], 0.025).softening.end == 0.05  # no reference: strains as given
     assert law(q).prm[law.layout.soft_end] == pytest.approx(0.10)
+    assert law.layout.phi_peak == SOFT_BASE  # strength_at reads the SOFT slots from there
 
 
 @pytest.mark.parametrize("shape", ["linear", "exponential"])
