@@ -19,7 +19,7 @@ def trigger_problems(case, loaded) -> list[tuple[str, str]]:
         return []
     out = []
     path = "triggers.strength_reduction.materials"
-    names = spec.materials if spec.materials is not None else None
+    names = spec.materials
     if names is None:
         if not any(r.cls.strength_reduction for r in loaded.materials.values()):
             out.append(("triggers.strength_reduction", "no material of the case has a strength to reduce; give a "

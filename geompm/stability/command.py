@@ -3,7 +3,7 @@
     geompm stability cases/slope_failure.json --json
 
 Each trial divides the soils' shear strength by F (trial.py) and runs the case quasi-statically under
-local damping; criterion.py says whether it failed; search.py brackets F and splits the bracket, with as
+viscous damping; criterion.py says whether it failed; search.py brackets F and splits the bracket, with as
 many trials in flight as ``--workers`` (Dask, as `geompm study`).  Writes to ``--out`` (default
 ``stability/<case name>``): ``trials/tNN`` (ordinary run folders), ``stability.json`` and the failure
 mechanism of the smallest failed F, ``mechanism.vtu`` and ``mechanism.png``.
