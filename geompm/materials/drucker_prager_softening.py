@@ -45,7 +45,7 @@ def dp_softening_stress(prm, dt, L, rho, s, state):
 
 class DruckerPragerSoftening(SofteningLaw, DruckerPrager):
     name = "drucker_prager_softening"
-    backends = ("cpu",)
+    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda/cuda_parity.py); compiles for sm_90 (tests/cuda/cuda_compile.py)
     description = "Drucker-Prager soil softening from peak to residual with plastic shear strain, regularised by the cell size"
     Params = DruckerPragerSofteningParams
     layout = DPS

@@ -39,7 +39,7 @@ def mc_softening_stress(prm, dt, L, rho, s, state):
 
 class MohrCoulombSoftening(SofteningLaw, MohrCoulomb):
     name = "mohr_coulomb_softening"
-    backends = ("cpu",)
+    backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda/cuda_parity.py); compiles for sm_90 (tests/cuda/cuda_compile.py)
     description = "Mohr-Coulomb soil softening from peak to residual with plastic shear strain, regularised by the cell size"
     Params = MohrCoulombSofteningParams
     layout = MCS

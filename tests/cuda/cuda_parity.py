@@ -149,6 +149,13 @@ def scenes(folder: Path) -> dict:
                 {"type": "wall", "side": "y-", "condition": "friction", "friction": 0.4},
                 {"type": "wall", "side": "x-", "condition": "slip", "drainage": "drained"}],
             velocity=[-1.0, 0.0], box=((0.0, 0.0), (0.3, 0.3))),
+        # softening laws: MC under a strength-reduction ramp (the parameters re-uploaded each step), DP plain
+        "mohr_coulomb_softening_trigger": dict(case2d(law("mohr_coulomb_softening"), velocity=[0.5, 0.0]),
+                                               triggers={"strength_reduction": {"times": [0.0, 0.01],
+                                                                                "factors": [1.0, 1.5]}}),
+        "drucker_prager_softening_2d": case2d(law("drucker_prager_softening", dilation_angle=0.0,
+                                                  softening={"start": 0.0, "end": 0.02, "shape": "exponential"}),
+                                              velocity=[1.0, 0.0]),
         "newtonian_3d_terrain_guard": dict(case3d(law("newtonian"), folder, obstacles=[
             {"type": "terrain", "name": "ground", "dem": terrain_dem(folder), "friction": 0.3}], terrain=True),
             parity_place=[0.35, 0.2, 0.10]),
