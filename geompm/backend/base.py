@@ -68,6 +68,12 @@ class Backend:
     def update_stress(self, dt: float) -> None:
         raise NotImplementedError
 
+    def set_pore_pressure(self, p_pore) -> None:
+        """The pore pressure [Pa] of each particle (a water table's, mpm/water_table.py) that the next P2G
+        takes out of the effective stress: the grid sees sigma' - p I.  The CPU backend implements it; the
+        case check refuses a water table elsewhere (schema/triggers.py)."""
+        raise NotImplementedError("a water table runs on the CPU backend only")
+
     def material_parameters_changed(self) -> None:
         """The laws' packed parameters (``scene.materials[k].prm``) were changed in place (a strength
         trigger, engine/triggers.py): a backend that keeps its own copy takes them again."""

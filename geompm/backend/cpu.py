@@ -25,6 +25,7 @@ from geompm.backend.cpu_loops import update_law_block
 from geompm.backend.cpu_loops import block_loops
 from geompm.backend.cpu_stage_loops import merge_loop, node_loop, particle_loop
 from geompm.backend.twophase_cpu import SaturatedCpu
+from geompm.kernels.phreatic import total_stress
 
 #: the transfer kernels of each dimension
 TRANSFERS = {2: (p2g_2d, g2p_2d), 3: (p2g_3d, g2p_3d)}
@@ -52,6 +53,9 @@ class CpuBackend(Backend):
         self._plans = {id(s): self._plan(s) for s in scene.stages}
         #: the saturated soil's passes (backend/twophase_cpu.py), None for a dry scene
         self.saturated = SaturatedCpu(self) if scene.pore_water is not None else None
+        #: a water table's pore pressure for the next P2G (set_pore_pressure) and the total stress it makes
+        self.p_pore = None
+        self._total = np.zeros((0, 6), self.state.dtype)
 
     def host_state(self):
         return self.state
@@ -67,9 +71,23 @@ class CpuBackend(Backend):
         """P2G; the force enters scaled by f_scale (split: 1 or 0; folded: dt or 0)."""
         st, g = self.state, self.scene.grid
         g_force = view.g_force if self.split_force else view.g_mom  # not written when folded
-        self.p2g_kernel(self.tag, self.scheme, st.p_x, st.p_v, st.p_C, st.p_mass, st.p_vol, st.p_stress,
+        self.p2g_kernel(self.tag, self.scheme, st.p_x, st.p_v, st.p_C, st.p_mass, st.p_vol, self._acting_stress(),
                         g.origin, g.h, g.kind, view.lo, view.nloc, self.buffers.c_grid, self.split_force,
                         f_scale, self.scene.apic_dinv, view.g_mass, view.g_mom, g_force)
+
+    def set_pore_pressure(self, p_pore) -> None:
+        self.p_pore = p_pore
+
+    def _acting_stress(self):
+        """The stress the grid sees: the particles' own, or sigma' - (V0 / V) p I under a water table
+        (kernels/phreatic.py)."""
+        st = self.state
+        if self.p_pore is None:
+            return st.p_stress
+        if self._total.shape != st.p_stress.shape or self._total.dtype != st.p_stress.dtype:
+            self._total = np.zeros_like(st.p_stress)
+        total_stress(st.p_stress, self.p_pore, st.p_vol, st.p_vol0, self._total)
+        return self._total
 
     def grid_update(self, view, dt: float) -> None:
         gravity = self.scene.gravity

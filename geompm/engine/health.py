@@ -8,7 +8,8 @@ Checked after every step, in one parallel pass over the particles:
   energy released by the particles that moved down (an upper bound of the work of
   gravity that a runaway particle thrown upwards cannot cancel), U_0 = sum V
   sigma:sigma / (2 E) the strain energy the
-  initial stress can release, and E_v = 2 M v_o^2 for obstacles moving at v_o.
+  initial stress can release, E_v = 2 M v_o^2 for obstacles moving at v_o, and
+  the work of a water table's pore pressure (kernels/phreatic.pore_work).
   An explicit scheme past its stability limit grows energy exponentially, so the
   check uses a factor 2 on that bound plus a floor of 1e-6 M |g| L (L the grid
   diagonal), far above the small energy errors of a stable run;
@@ -29,6 +30,7 @@ from numba import njit, prange
 
 from geompm.errors import SimulationError
 from geompm.backend.timestep import below_dt_min, viscous_limit, wave_speed
+from geompm.kernels.phreatic import pore_work
 
 
 @njit(parallel=True, cache=True)
@@ -127,10 +129,15 @@ class HealthCheck:
                 f"NaN or Inf in the {field} of {describe_particle(sim, p)} ({bad} particles affected). Likely cause: "
                 f"{self._likely_cause(sim)}")
         allowed = self.budget0 + max(wg, 0.0) + sum(s.supplied_work() for s in sc.stages if s.supplies_energy)
+        water = getattr(sim, "water", None)
+        if water is not None:
+            allowed += pore_work(water.pressure(st.p_x, st.p_material, sim.time), st.p_vol, st.p_vol0, st.p_x,
+                                 st.p_x0, water.normal.astype(st.p_x.dtype), water.gradient)
         if ek > 2.0 * allowed + self.floor:
             p = int(np.argmax((st.p_v ** 2).sum(axis=1)))
             raise SimulationError(
-                f"kinetic energy {ek:.4g} J exceeds what gravity, the initial stress, moving obstacles and loads can "
+                f"kinetic energy {ek:.4g} J exceeds what gravity, the initial stress, moving obstacles, loads and "
+                f"a water table can "
                 f"supply ({allowed:.4g} J) at step {sim.step_count}, t = {sim.time:.6g} s; fastest: "
                 f"{describe_particle(sim, p)}, |v| = {np.linalg.norm(st.p_v[p]):.4g} m/s. Likely cause: "
                 f"{self._likely_cause(sim)}")

@@ -27,6 +27,7 @@ from geompm.backend import make_backend
 from geompm.kernels.reduce import kinetic_energy, max_coordinate, max_coordinate_by_group
 from geompm.contract.stages import BOUNDARY, GridStage, ParticleStage
 from geompm.engine.triggers import StrengthSchedule
+from geompm.mpm.water_table import WaterTable
 
 
 class Simulation:
@@ -44,6 +45,8 @@ class Simulation:
             self.step = self._step_saturated
         trig = scene.strength_trigger
         self.strength = StrengthSchedule(*trig) if trig is not None else None
+        #: the water table whose pore pressure the grid sees (mpm/water_table.py), or None
+        self.water = WaterTable(*scene.water_table) if scene.water_table is not None else None
         self.time = 0.0
         self.step_count = 0
         self.dt = 0.0
@@ -70,6 +73,9 @@ class Simulation:
         self._sort_if_due()
         be = self.backend
         view = be.window()
+        if self.water is not None:
+            st = self.state
+            be.set_pore_pressure(self.water.pressure(st.p_x, st.p_material, self.time))
         be.p2g(view, 1.0 if be.split_force else dt)
         be.grid_update(view, dt)
         for stage in self.grid_stages:
@@ -171,6 +177,8 @@ class Simulation:
         row.update(self.group_fronts())
         if self.strength is not None:
             row["strength_factor"] = self.strength.factor(self.time)
+        if self.water is not None:
+            row["water_table"] = self.water.height(self.time)
         if self.scene.pore_water is not None:
             row.update(self.pore_pressure_series())
         for stage in dict.fromkeys(self.grid_stages + self.particle_stages):  # a stage of both kinds once

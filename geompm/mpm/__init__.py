@@ -1,2 +1,3 @@
 """The data of a Material Point Method run, independent of any machine: the particle state (``state.py``), the
-grid and its active window (``grid.py``) and the memory a case needs (``memory.py``)."""
+grid and its active window (``grid.py``), the memory a case needs (``memory.py``), a saturated soil's
+pore-water table (``pore_water.py``) and the pore pressure under a water table (``water_table.py``)."""

@@ -305,9 +305,42 @@ class StrengthReductionSpec(Strict):
         return self
 
 
+class WaterTableSpec(Strict):
+    """A phreatic surface that sets the pore pressure of drained soil, p = rho_w (-g . n) (z_wt(t) - x . n)
+    below it (docs/slope-stability.md, "Water table")."""
+
+    times: list[float] = Field(min_length=1, max_length=1000,
+                               description="Times [s] of the schedule's points, non-decreasing")
+    heights: list[float] = Field(min_length=1, max_length=1000,
+                                 description="Height z_wt of the water table along 'normal' [m] at each time; "
+                                             "between two times linear")
+    normal: list[float] | None = Field(
+        None, min_length=2, max_length=3, description="Unit normal of the (planar) water table, out of the "
+        "ground; its pore pressure is that of seepage parallel to the table. Default: against gravity "
+        "(a horizontal table, hydrostatic pressure)")
+    fluid_density: float = Field(1000.0, gt=0.0, description="rho_w [kg/m3] of the pore water")
+    materials: list[str] | None = Field(None, description="The soils under the table's pore pressure (default "
+                                                           "every dry soil: not a fluid, no 'pore_water')")
+
+    @model_validator(mode="after")
+    def _schedule(self):
+        if len(self.times) != len(self.heights):
+            raise ValueError(f"'times' has {len(self.times)} entries and 'heights' {len(self.heights)}: give one "
+                             "height per time")
+        if any(b < a for a, b in zip(self.times, self.times[1:])):
+            raise ValueError("'times' must not decrease")
+        if any(t < 0.0 for t in self.times):
+            raise ValueError("'times' must be >= 0 s")
+        if self.normal is not None and sum(v * v for v in self.normal) < 1e-12:
+            raise ValueError("'normal' must not be zero")
+        return self
+
+
 class TriggersSpec(Strict):
     strength_reduction: StrengthReductionSpec | None = Field(
         None, description="Divide the soils' shear strength by a factor F(t) (a strength ramp to failure)")
+    water_table: WaterTableSpec | None = Field(
+        None, description="A water table z_wt(t) whose pore pressure acts on drained soil (a rising table)")
 
 
 class Case(Strict):

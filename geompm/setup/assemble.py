@@ -15,6 +15,8 @@ from geompm.mpm.grid import GridSpec
 from geompm.mpm.state import ParticleState
 from geompm.errors import CaseError
 from geompm.setup.bodies import overlap_problems, seed_body
+from geompm.mpm.water_table import WaterTable
+from geompm.schema.triggers import water_table_materials
 from geompm.setup.pore_water import body_water, buoyant_mass, material_table, skeleton_params
 from geompm.kernels.overburden import column_overburden
 from geompm.kernels.shape import APIC_D_FACTOR, KIND
@@ -58,6 +60,8 @@ class Scene:
     pore_water: object = None  # setup/pore_water.PoreWater where a material is saturated, else None
     #: triggers.strength_reduction as (times [s], factors [-], material ids), or None (engine/triggers.py)
     strength_trigger: tuple | None = None
+    #: the water table's (times, heights, normal, gradient rho_w (-g . n), acts per material), or None
+    water_table: tuple | None = None
     case_text: str = ""  # the case as JSON, for provenance only (the HDF5 file's attribute); never parsed
 
     @property
@@ -77,7 +81,7 @@ def _body_velocity(body, pts, dim):
     return np.broadcast_to(v0, pts.shape).copy()
 
 
-def geostatic_stress(pts, masses, volumes, k0, gravity, h, normal=None) -> np.ndarray:
+def geostatic_stress(pts, masses, volumes, k0, gravity, h, normal=None, pore=None) -> np.ndarray:
     """Layered geostatic stress (Voigt, tension positive) from the weight of everything above.
 
     ``normal`` is the unit normal of the ground surface pointing out of the
@@ -96,6 +100,11 @@ def geostatic_stress(pts, masses, volumes, k0, gravity, h, normal=None) -> np.nd
     stress K0 sigma_nn with each particle's own K0.  With n = -g/|g| it reduces
     to sigma_v = -rho |g| depth, sigma_h = K0 sigma_v; for a uniform body that
     fills whole cells it is exactly rho |g| depth.
+
+    With a pore pressure ``pore`` [Pa, compression positive] (a water table's:
+    engine/water_table.py) the stress is effective: sigma'_nn = w (g.n) + p
+    takes the place of sigma_nn in the normal and the lateral (K0) parts, the
+    bed-parallel shear stays that of the total weight.
     """
     n, dim = pts.shape
     out = np.zeros((n, 6))
@@ -117,10 +126,10 @@ def geostatic_stress(pts, masses, volumes, k0, gravity, h, normal=None) -> np.nd
     g3[:dim], n3[:dim] = gravity, up
     gn = float(g3 @ n3)
     ident = np.eye(3)
+    normal_stress = w * gn if pore is None else w * gn + pore
     for slot, (a, b) in enumerate(((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))):
-        bed = g3[a] * n3[b] + n3[a] * g3[b] - gn * n3[a] * n3[b]
-        lateral = gn * (ident[a, b] - n3[a] * n3[b])
-        out[:, slot] = w * (bed + k0 * lateral)
+        shear = g3[a] * n3[b] + n3[a] * g3[b] - 2.0 * gn * n3[a] * n3[b]
+        out[:, slot] = w * shear + normal_stress * (n3[a] * n3[b] + k0 * (ident[a, b] - n3[a] * n3[b]))
     return out
 
 
@@ -184,11 +193,13 @@ def assemble(loaded: LoadedCase) -> Scene:
     water = None if pw is None else [np.concatenate([np.zeros(len(x)) if w is None else w[k]
                                                      for x, w in zip(xs, waters)]) for k in range(3)]
     weight = p_mass if pw is None else buoyant_mass(p_mass, p_vol, p_material, water[0], pw)
+    table = _water_table(case, loaded, names, gravity)
+    pore = None if table is None else WaterTable(*table).pressure(p_x, p_material, 0.0)
     stress = np.zeros((len(p_x), 6))
     for normal in dict.fromkeys(normals):
         mine = np.isin(body_of, [b for b, nb in enumerate(normals) if nb == normal]) & np.concatenate(geo)
         if mine.any():
-            stress[mine] = geostatic_stress(p_x, weight, p_vol, k0_all, gravity, h, normal)[mine]
+            stress[mine] = geostatic_stress(p_x, weight, p_vol, k0_all, gravity, h, normal, pore)[mine]
     for b, body in enumerate(case.bodies):
         if body.stress_offset is not None:
             stress[body_of == b] += np.asarray(body.stress_offset, float)
@@ -228,7 +239,7 @@ def assemble(loaded: LoadedCase) -> Scene:
         apic_dinv=(1.0 / (APIC_D_FACTOR[kind] * h * h)) if APIC_D_FACTOR[kind] > 0 else 0.0,
         nu_max=max((m.kinematic_viscosity() for m in materials), default=0.0),
         case_text=json.dumps(loaded.raw), crs=case.crs, body_materials=[b.material for b in case.bodies],
-        strength_trigger=_strength_trigger(case, materials, names),
+        strength_trigger=_strength_trigger(case, materials, names), water_table=table,
         base_dir=loaded.base_dir, pore_water=pw,
     )
     for r, spec in zip(loaded.outputs, loaded.case.outputs):  # first: a stage asks what they need (face forces)
@@ -290,3 +301,16 @@ def _strength_trigger(case, materials: list, names: list[str]) -> tuple | None:
     wanted = spec.materials if spec.materials is not None else [n for n, m in zip(names, materials)
                                                                  if type(m).strength_reduction]
     return tuple(spec.times), tuple(spec.factors), tuple(names.index(n) for n in wanted)
+
+
+def _water_table(case, loaded, names: list[str], gravity) -> tuple | None:
+    """(times, heights, unit normal, gradient rho_w (-g . n) [Pa/m], acts per material) of
+    ``triggers.water_table`` (schema/triggers.py checked it), or None."""
+    spec = case.triggers.water_table if case.triggers is not None else None
+    if spec is None:
+        return None
+    normal = -gravity / np.linalg.norm(gravity) if spec.normal is None else np.asarray(spec.normal, float)
+    normal = normal / np.linalg.norm(normal)
+    wanted = water_table_materials(case, loaded)
+    acts = np.array([1.0 if n in wanted else 0.0 for n in names])
+    return (tuple(spec.times), tuple(spec.heights), normal, -spec.fluid_density * float(gravity @ normal), acts)

@@ -10,7 +10,8 @@ A trial is an ordinary run of the case with ``--set`` overrides (so its folder i
   imbalance fail a slope that stands: on the infinite slope with phi = 15 deg on beta = 20 deg, h = 0.2 m,
   F came out 0.654 against tan(phi) / tan(beta) = 0.736); criterion.py reads the last quarter.  Every material
   whose law declares ``strength_reduction`` is reduced; others (a fluid, an elastic base) keep theirs.
-  Any trigger of the case is replaced: the factor of safety is that of the slope before its trigger;
+  Any trigger of the case is replaced: the factor of safety is that of the slope before its trigger; a
+  water table stays, held at its height at t = 0 (``--set triggers.water_table.heights=[...]`` for another);
 - the damping becomes mass-proportional viscous damping f = -zeta m v at one rate zeta [1/s] for every
   material (the ``artificial`` stage, its rate fixed through reference_cell_size), default 40 / T so that
   the transient of the first quarter decays by e^-5 in its amplitude before the ramp; Cundall's local
@@ -68,6 +69,10 @@ def trial_sets(loaded, factor: float, duration: float, damping: list[dict]) -> l
     f0 = 1.0 if factor >= 1.0 else 0.5 * factor
     trigger = {"strength_reduction": {"times": [0.0, 0.25 * duration, 0.5 * duration],
                                       "factors": [f0, f0, float(factor)], "materials": reducible_materials(loaded)}}
+    water = loaded.case.triggers.water_table if loaded.case.triggers is not None else None
+    if water is not None:
+        trigger["water_table"] = {**water.model_dump(exclude_none=True), "times": [0.0],
+                                  "heights": [water.heights[0]]}
     outputs = [{"writer": "series", "interval": duration / SERIES_ROWS, "displacement": True},
                {"writer": "vtu", "interval": duration}]
     return [f"triggers={json.dumps(trigger)}", f"time.end={json.dumps(duration)}",

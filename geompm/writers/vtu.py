@@ -90,6 +90,13 @@ def particle_fields(sim) -> dict[str, np.ndarray]:
     }
     if st.p_pore is not None:  # saturated soil (docs/pore-water.md): "stress" is the total stress
         fields.update(saturated_fields(sim))
+    water = getattr(sim, "water", None)
+    if water is not None:  # under a water table (docs/slope-stability.md): "stress" is the total stress
+        pore = water.pressure(st.p_x, st.p_material, sim.time).copy()
+        total = s.copy()
+        total[:, :3] -= pore[:, None]
+        fields.update({"stress": total, "mean_stress_p": p + pore, "effective_stress": s.copy(),
+                       "effective_mean_stress_p": p, "pore_pressure": pore})
     for mat, (a, b), sv in zip(sc.materials, st.blocks, st.p_state):
         for k, var in enumerate(mat.state_vars):
             arr = fields.setdefault(var, np.zeros(st.n))

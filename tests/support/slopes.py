@@ -35,6 +35,24 @@ def infinite_slope_case(cell_size: float, slope: float = 20.0, friction: float =
     }
 
 
+def saturated_infinite_slope_case(cell_size: float, slope: float = 20.0, friction: float = 40.0, **over) -> dict:
+    """infinite_slope_case with a water table at its surface and seepage parallel to the slope
+    (triggers.water_table with the surface's normal, rho_w = 1000 kg/m3 against the soil's saturated 2000),
+    from the geostatic effective stress of that state."""
+    case = infinite_slope_case(cell_size, slope=slope, friction=friction, dilation=friction, **over)
+    depth = case["bodies"][0]["geometry"]["max"][1]
+    case["description"] += "; water table at the surface, seepage parallel to the slope"
+    case["triggers"] = {"water_table": {"times": [0.0], "heights": [depth], "normal": [0.0, 1.0]}}
+    case["bodies"][0].update({"initial_stress": "geostatic", "surface_normal": [0.0, 1.0]})
+    return case
+
+
+def saturated_limit_equilibrium(slope: float, friction: float, density: float = 2000.0, fluid: float = 1000.0) -> float:
+    """F of a cohesionless infinite slope with the water table at its surface and slope-parallel seepage,
+    (gamma' / gamma_sat) tan(phi) / tan(beta) (Skempton & DeLory 1957; Duncan, Wright & Brandon 2014, sec. 6.2)."""
+    return (density - fluid) / density * math.tan(math.radians(friction)) / math.tan(math.radians(slope))
+
+
 def limit_equilibrium(slope: float, friction: float, cohesion: float, depth: float = 1.0, density: float = 2000.0) -> float:
     """F of the slope-parallel plane at ``depth``: c / (gamma z cos^2(beta) tan(beta)) + tan(phi) / tan(beta)
     (Taylor 1948, Fundamentals of Soil Mechanics, ch. 16; Duncan, Wright & Brandon 2014, Soil Strength and
