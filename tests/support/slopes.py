@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 
 def infinite_slope_case(cell_size: float, slope: float = 20.0, friction: float = 30.0, dilation: float = 30.0,
                         cohesion: float = 0.0, depth: float = 1.0, model: str = "drucker_prager",
@@ -51,6 +53,44 @@ def saturated_limit_equilibrium(slope: float, friction: float, density: float = 
     """F of a cohesionless infinite slope with the water table at its surface and slope-parallel seepage,
     (gamma' / gamma_sat) tan(phi) / tan(beta) (Skempton & DeLory 1957; Duncan, Wright & Brandon 2014, sec. 6.2)."""
     return (density - fluid) / density * math.tan(math.radians(friction)) / math.tan(math.radians(slope))
+
+
+def rising_table_case(cell_size: float, rise=(1.0, 0.4, 7.0, 1.0), end: float = 8.0) -> dict:
+    """The infinite slope of infinite_slope_case (beta = 20 deg, phi = psi = 30 deg, c = 0, 1 m deep) under a
+    water table parallel to it that rises from rise[1] m above the base at t = rise[0] to rise[3] m at
+    t = rise[2] (slope-parallel seepage), from the geostatic effective stress of its first height; the
+    trial's viscous damping (zeta = 20 1/s, trial.py) and the series with displacements every 0.05 s."""
+    case = infinite_slope_case(cell_size, end=end)
+    t0, z0, t1, z1 = rise
+    case["description"] += "; a water table parallel to the slope rising through it"
+    case["triggers"] = {"water_table": {"times": [t0, t1], "heights": [z0, z1], "normal": [0.0, 1.0]}}
+    case["bodies"][0].update({"initial_stress": "geostatic", "surface_normal": [0.0, 1.0]})
+    case["damping"] = [{"model": "artificial", "xi": 1e-3, "reference_cell_size": 1e-3 * math.sqrt(2.0e6 / 2000.0) / 20.0}]
+    case["outputs"] = [{"writer": "series", "interval": 0.05, "displacement": True}]
+    return case
+
+
+def onset_from_velocity(series: dict, after: float, low: float = 5e-3, high: float = 3e-2) -> float:
+    """The time [s] a slide under a rising trigger started: the surface speed (the rate of the series column
+    ``max_displacement``) fitted by a line over the rows where it lies in [low, high] m/s, extrapolated to zero.
+    Past its limit an overdamped slope (viscous damping zeta) slides at v = a / zeta with an acceleration a
+    that grows linearly with the table's height, so v is linear in time from the onset; below ``low`` the
+    slope's creep before the onset (about 1e-3 m/s) biases the line."""
+    t = np.asarray(series["time"], float)
+    d = np.asarray(series["max_displacement"], float)
+    v = np.diff(d) / np.diff(t)
+    mid = 0.5 * (t[1:] + t[:-1])
+    pick = (v >= low) & (v <= high) & (mid >= after)
+    slope, intercept = np.polyfit(mid[pick], v[pick], 1)
+    return float(-intercept / slope)
+
+
+def critical_table(slope: float, friction: float, depth: float = 1.0, density: float = 2000.0,
+                   fluid: float = 1000.0) -> float:
+    """The height above the base [m] of a slope-parallel water table at which a cohesionless infinite slope
+    ``depth`` deep reaches F = 1 on its base: F(h_w) = (1 - rho_w h_w / (rho H)) tan(phi) / tan(beta)."""
+    ratio = math.tan(math.radians(slope)) / math.tan(math.radians(friction))
+    return (1.0 - ratio) * density * depth / fluid
 
 
 def limit_equilibrium(slope: float, friction: float, cohesion: float, depth: float = 1.0, density: float = 2000.0) -> float:
