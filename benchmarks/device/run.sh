@@ -3,7 +3,7 @@
 #   sh benchmarks/device/run.sh [OUTDIR]
 # Installs geompm with benchmarks/device/install.sh: the machine's python3 gives numpy, numba, numba-cuda and
 # CUDA, the wheels in benchmarks/device/wheels the rest (not committed: fill the folder on a machine with
-# network with `sh benchmarks/device/fetch_wheels.sh`, about 47 MB, and carry it: the device tool's
+# network with `LEAN=1 sh benchmarks/device/fetch_wheels.sh`, about 37 MB (rasterio left out: the terrain scenes are then skipped), and carry it: the device tool's
 # `carry: ["benchmarks/device/wheels"]`).  Then it prints the GPU,
 # benchmarks fluid3d and dp3d on the cuda backend at 64, 128 and 256 cells per side (204k, 1.6M, 13M
 # particles), float32 and float64 (solver.precision), the tiled P2G at 128 and 256 (solver.p2g), benchmarks saturated3d
@@ -15,25 +15,13 @@ mkdir -p "$out"
 log="$out/gpu_check.log"
 here=$(cd "$(dirname "$0")" && pwd)
 {
-  date -u
-  nvidia-smi --query-gpu=name,memory.total,driver_version,clocks.max.sm --format=csv || echo "nvidia-smi failed"
-  . "$here/install.sh" || exit 2
-  python3 -c "from numba import cuda; cuda.detect()"
-  export PYTHONUNBUFFERED=1
+  . "$here/common.sh"
   # One deadline for everything after the install (BUDGET seconds, default 430: the whole script within 8
   # minutes).  The measurements run in the order of what the issue's targets need: 13M particles first
   # (each scene and precision its own command: assembling 13M particles takes about 10-20 s before the first
   # step), then 1.6M, the dam-break equality check, 204k, the tiled P2G; every command gets its own
   # timeout or what is left, whichever is less, and is named if it is cut or skipped.
-  start=$(date +%s)
-  budget=${BUDGET:-430}
-  step() {
-    limit=$1; shift
-    left=$((budget - $(date +%s) + start))
-    if [ "$left" -le 5 ]; then echo "skipped, no time left: $*"; return; fi
-    [ "$limit" -gt "$left" ] && limit=$left
-    timeout "$limit" "$@" || echo "failed or cut at ${limit} s: $*"
-  }
+  gpu_start 430 || exit 2
   bench() {  # timeout, cells per side, precision, timed steps, then scenes and extra options
     limit=$1; n=$2; p=$3; steps=$4; shift 4
     step "$limit" geompm bench --backend cuda --no-cold --no-bandwidth --json --steps "$steps" \

@@ -14,20 +14,8 @@ mkdir -p "$out"
 log="$out/slope_gpu.log"
 here=$(cd "$(dirname "$0")" && pwd)
 {
-  date -u
-  nvidia-smi --query-gpu=name,memory.total,driver_version,clocks.max.sm --format=csv || echo "nvidia-smi failed"
-  . "$here/install.sh" || exit 2
-  python3 -c "from numba import cuda; cuda.detect()"
-  export PYTHONUNBUFFERED=1
-  start=$(date +%s)
-  budget=${BUDGET:-400}
-  step() {
-    limit=$1; shift
-    left=$((budget - $(date +%s) + start))
-    if [ "$left" -le 5 ]; then echo "skipped, no time left: $*"; return; fi
-    [ "$limit" -gt "$left" ] && limit=$left
-    timeout "$limit" "$@" || echo "failed or cut at ${limit} s: $*"
-  }
+  . "$here/common.sh"
+  gpu_start 400 || exit 2
   step 100 python3 tests/cuda/cuda_parity.py --steps 3 mohr_coulomb_softening_trigger drucker_prager_softening_2d
   step 60 python3 tests/cuda/cuda_parity.py --steps 200 --case cases/slope_failure.json
   for h in 0.5 0.25 0.125; do

@@ -282,6 +282,16 @@ class BodySpec(Strict):
 NAME_PATTERN = r"^[A-Za-z0-9_\-][A-Za-z0-9_.\-]*$"  # names a folder: never '.', '..' or hidden
 
 
+def check_schedule(times, values, key: str, noun: str) -> None:
+    """A trigger's schedule: one value per time, times >= 0 s and non-decreasing (ValueError otherwise)."""
+    if len(times) != len(values):
+        raise ValueError(f"'times' has {len(times)} entries and '{key}' {len(values)}: give one {noun} per time")
+    if any(b < a for a, b in zip(times, times[1:])):
+        raise ValueError("'times' must not decrease")
+    if any(t < 0.0 for t in times):
+        raise ValueError("'times' must be >= 0 s")
+
+
 class StrengthReductionSpec(Strict):
     times: list[float] = Field(min_length=1, max_length=1000,
                                description="Times [s] of the schedule's points, non-decreasing")
@@ -293,13 +303,7 @@ class StrengthReductionSpec(Strict):
 
     @model_validator(mode="after")
     def _schedule(self):
-        if len(self.times) != len(self.factors):
-            raise ValueError(f"'times' has {len(self.times)} entries and 'factors' {len(self.factors)}: give one "
-                             "factor per time")
-        if any(b < a for a, b in zip(self.times, self.times[1:])):
-            raise ValueError("'times' must not decrease")
-        if any(t < 0.0 for t in self.times):
-            raise ValueError("'times' must be >= 0 s")
+        check_schedule(self.times, self.factors, "factors", "factor")
         if any(not 0.05 <= f <= 20.0 for f in self.factors):
             raise ValueError("every factor must lie in [0.05, 20] (F = 1: the soil as given)")
         return self
@@ -324,13 +328,7 @@ class WaterTableSpec(Strict):
 
     @model_validator(mode="after")
     def _schedule(self):
-        if len(self.times) != len(self.heights):
-            raise ValueError(f"'times' has {len(self.times)} entries and 'heights' {len(self.heights)}: give one "
-                             "height per time")
-        if any(b < a for a, b in zip(self.times, self.times[1:])):
-            raise ValueError("'times' must not decrease")
-        if any(t < 0.0 for t in self.times):
-            raise ValueError("'times' must be >= 0 s")
+        check_schedule(self.times, self.heights, "heights", "height")
         if self.normal is not None and sum(v * v for v in self.normal) < 1e-12:
             raise ValueError("'normal' must not be zero")
         return self

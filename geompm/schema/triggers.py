@@ -43,7 +43,7 @@ def _water_table_problems(case, loaded) -> list[tuple[str, str]]:
         out.append((path, "a water table and a saturated material ('pore_water', two-phase) in one case are not "
                           "supported; give the saturated body its own 'pore_pressure.water_table'"))
     if case.solver.backend != "cpu":
-        out.append((path, f"the water table runs on the CPU backend only; use solver.backend \"cpu\""))
+        out.append((path, "the water table runs on the CPU backend only; use solver.backend \"cpu\""))
     if spec.normal is not None:
         if len(spec.normal) != case.dimension:
             out.append((f"{path}.normal", f"give {case.dimension} components, one per axis"))
