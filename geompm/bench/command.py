@@ -50,7 +50,7 @@ def add_parser(sub) -> None:
                    "(default: each case's own, cpu)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a value in every scene's case, "
                    "after the scene's own (e.g. grid.cell_size=0.0078125)")
-    p.add_argument("--no-bandwidth", action="store_true", help="skip the memory-bandwidth (STREAM triad) measurement")
+    p.add_argument("--no-bandwidth", action="store_true", help="skip the machine's limits: the memory bandwidth (STREAM triad), the multiply-add rates and the roofline lines")
     p.set_defaults(func=cmd_bench)
 
 
@@ -179,6 +179,7 @@ def cmd_bench(args) -> int:
         print(HEADER)
     failed = False
     notes = []
+    modelled = []  # (label, result) of the measurements whose scene has a flop and byte model
     for name in names:
         spec = scenes[name]
         results = []
@@ -192,19 +193,46 @@ def cmd_bench(args) -> int:
                              f"warm start {r['warm_start_s']:.2f} s (from the cache)")
             failed |= "error" in r
             results.append((label, r))
+            if "model" in spec and "error" not in r:
+                r["roofline_flops"], r["roofline_bytes"] = spec["model"]["flops"], spec["model"]["bytes"]
+                modelled.append((label, r))
             print(json.dumps(r) if args.json else row(label, r), flush=True)
         notes += check_lines(name, spec, results)
     if not args.no_bandwidth:
+        from geompm.bench.peak import fma_rates
         from geompm.bench.stream import triad_bandwidth
 
         bw = triad_bandwidth()
+        peaks = fma_rates()
         notes.append(f"memory bandwidth (STREAM triad, {_threads()} threads): {bw / 1e9:.1f} GB/s")
+        notes.append(f"multiply-add rate ({_threads()} threads): scalar {peaks['scalar_flops_per_s'] / 1e9:.1f} GFLOP/s, "
+                     f"vectorised L1 update {peaks['vector_flops_per_s'] / 1e9:.1f} GFLOP/s")
         if args.json:
-            print(json.dumps({"scene": "bandwidth", "triad_bytes_per_s": bw, "threads": _threads()}))
+            print(json.dumps({"scene": "bandwidth", "triad_bytes_per_s": bw, "threads": _threads(), **peaks}))
+        for label, r in modelled:
+            line = roofline(r, bw, peaks)
+            notes.append(f"{label}: {line['text']}")
+            if args.json:
+                print(json.dumps({"scene": "roofline", "label": label,
+                                  **{k: v for k, v in line.items() if k != "text"}}))
     if notes and not args.json:
         print()
         print("\n".join(notes))
     return 3 if failed else 0
+
+
+def roofline(r: dict, triad: float, peaks: dict) -> dict:
+    """How far a measurement is from the machine's limits: its modelled flops and bytes per particle-step
+    (scenes.json "model") at its measured rate, against the triad bandwidth and the multiply-add rates."""
+    rate = r["particle_steps_per_s"]
+    flops, moved = r["roofline_flops"] * rate, r["roofline_bytes"] * rate
+    out = {"flops_per_s": flops, "bytes_per_s": moved, "of_triad": moved / triad,
+           "of_scalar_fma": flops / peaks["scalar_flops_per_s"], "of_vector_fma": flops / peaks["vector_flops_per_s"]}
+    out["text"] = (f"{r['roofline_flops']} flops and {r['roofline_bytes']} bytes per particle-step (model): "
+                   f"{flops / 1e9:.1f} GFLOP/s = {out['of_scalar_fma']:.0%} of the scalar multiply-add rate "
+                   f"({out['of_vector_fma']:.0%} of the vectorised), {moved / 1e9:.1f} GB/s = "
+                   f"{out['of_triad']:.0%} of the triad")
+    return out
 
 
 def _threads() -> int:
