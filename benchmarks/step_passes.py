@@ -3,7 +3,7 @@
     python benchmarks/step_passes.py benchmarks/fluid3d.json [--set solver.transfer=mls] [--steps 20] [--rounds 5]
 
 Steps the case through the Python API (3 warm-up steps compile everything), wraps each of the backend's passes
-(window, p2g, grid_update, grid_stage, g2p, particle_stage, update_stress, sort_particles and, for MUSL,
+(window, p2g, grid_update, grid_stage, g2p, particle_stages, update_stress, sort_particles and, for MUSL,
 remap_velocity) with a timer, and runs ``--rounds`` rounds of ``--steps`` steps.  Prints one JSON object: the
 particles, threads, each pass's median over the rounds and the whole step's (Simulation.step, so without the
 runner's health checks and outputs), all in ns per particle-step, and the median's spread (largest / smallest
@@ -26,7 +26,7 @@ sys.path.insert(0, str(ROOT))
 from geompm.api import scene_from_file  # noqa: E402
 from geompm.engine.scheduler import Simulation  # noqa: E402
 
-PASSES = ("window", "p2g", "grid_update", "grid_stage", "remap_velocity", "g2p", "particle_stage",
+PASSES = ("window", "p2g", "grid_update", "grid_stage", "remap_velocity", "g2p", "particle_stages",
           "update_stress", "sort_particles")
 
 

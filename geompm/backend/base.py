@@ -8,7 +8,7 @@ One step (engine/scheduler.py) in backend calls:
     grid_update(view, dt)            momentum balance + gravity
     grid_stage(stage, view, dt, time, remap)   each grid stage's node rule or node merge
     g2p(view, dt, set_velocity, move, gradient)
-    particle_stage(stage, dt, time)            each particle stage's particle rule
+    particle_stages(stages, dt, time)          every particle stage's particle rule, in order
     update_stress(dt)                each material block through its law's loop; sets max_rate,
                                      the largest |L_ii| of the step, for the strain-increment limit
 (the next step's CFL limit runs each law's wave-speed loop: backend/timestep.py)
@@ -64,6 +64,12 @@ class Backend:
     def particle_stage(self, stage, dt: float, time: float) -> None:
         """Run a ParticleStage's particle rule over its blocks and hand it the reduction."""
         raise NotImplementedError
+
+    def particle_stages(self, stages, dt: float, time: float) -> None:
+        """Every ParticleStage's rule, in the order given (a backend may skip a stage that declares it
+        cannot reach the particles: ``ParticleStage.particle_reach``)."""
+        for stage in stages:
+            self.particle_stage(stage, dt, time)
 
     def update_stress(self, dt: float) -> None:
         raise NotImplementedError

@@ -15,6 +15,7 @@ import math
 import numpy as np
 
 from geompm.mpm.grid import GridBuffers
+from geompm.kernels.chunks import G2P_CHUNKS
 from geompm.kernels.grid_update import grid_update, grid_update_folded, momentum_to_velocity
 from geompm.kernels.stencil import scheme_tag, stencil_tag
 from geompm.kernels.transfer2d import g2p_2d, p2g_2d
@@ -51,6 +52,10 @@ class CpuBackend(Backend):
         self._every_node = (np.full(scene.dim, -FAR_NODE, np.int64), np.full(scene.dim, FAR_NODE, np.int64))
         #: per stage: its loops and its accumulator and scratch rows, made once
         self._plans = {id(s): self._plan(s) for s in scene.stages}
+        #: G2P's per-chunk bounds of the moved particles, and their box (lo, hi) until the particle stages
+        #: have used it (None: unknown)
+        self._box_rows = np.zeros((G2P_CHUNKS, 2, 3))
+        self.p_box = None
         #: the saturated soil's passes (backend/twophase_cpu.py), None for a dry scene
         self.saturated = SaturatedCpu(self) if scene.pore_water is not None else None
         #: a water table's pore pressure for the next P2G (set_pore_pressure) and the total stress it makes
@@ -106,7 +111,11 @@ class CpuBackend(Backend):
         ratio = sc.flip_ratio if sc.flip_tau is None else math.exp(-dt / sc.flip_tau)
         self.g2p_kernel(self.tag, self.scheme, st.p_x, st.p_v, st.p_C, st.p_L, st.p_vol, st.p_rho, st.p_mass,
                         view.g_vel, g_vel_old, g.origin, g.h, g.kind, view.lo, view.nloc, dt, ratio,
-                        sc.apic_dinv, set_velocity, move, gradient)
+                        sc.apic_dinv, set_velocity, move, gradient, self._box_rows)
+        self.p_box = None
+        if move and st.n:
+            rows, d = self._box_rows[:min(st.n, G2P_CHUNKS)], sc.dim
+            self.p_box = (rows[:, 0, :d].min(axis=0), rows[:, 1, :d].max(axis=0))
 
     def update_stress(self, dt: float) -> None:
         st = self.state
@@ -172,10 +181,31 @@ class CpuBackend(Backend):
              plan["node_work"], out)
         stage.grid_reduced(out, dt, time, remap)
 
+    def particle_stages(self, stages, dt: float, time: float) -> None:
+        """Every particle stage in order.  After a G2P that moved the particles, a stage whose
+        ``particle_reach`` says it cannot reach their box is not run: its reduction is zero rows; the
+        box then follows what each stage that runs says of the particles after it."""
+        box, self.p_box = self.p_box, None
+        for stage in stages:
+            args = stage.particle_args(dt, time)
+            if args is None:
+                continue
+            if box is not None:
+                reach = stage.particle_reach(*box)
+                if reach is None:
+                    out = self._plan_of(stage)["particle_out"]
+                    out.fill(0.0)
+                    stage.particle_reduced(out, dt, time)
+                    continue
+                box = reach if np.isfinite(reach[0]).all() and np.isfinite(reach[1]).all() else None
+            self._particle_pass(stage, args, dt, time)
+
     def particle_stage(self, stage, dt: float, time: float) -> None:
         args = stage.particle_args(dt, time)
-        if args is None:
-            return
+        if args is not None:
+            self._particle_pass(stage, args, dt, time)
+
+    def _particle_pass(self, stage, args, dt: float, time: float) -> None:
         prm, aux = args
         plan = self._plan_of(stage)
         loop, out, work = plan["particle"], plan["particle_out"], plan["particle_work"]

@@ -96,3 +96,21 @@ class HalfSpace(GridStage, ParticleStage):
 
     def particle_args(self, dt, time):
         return self.prm, NO_AUX
+
+    def particle_reach(self, lo, hi):
+        """Skip the pass when the box's deepest corner is not behind the surface.
+
+        phi is computed at that corner in the rule's own arithmetic; each of its terms and its running sum
+        are non-decreasing in every coordinate when rounded, so no particle in the box has a smaller phi
+        and the rule would return at once for all of them.  Otherwise the rule moves a particle by
+        -phi n with |phi| <= |phi at the corner|: the box grows by that much along every axis (and by
+        1e-6 of its coordinates for a float32 state's rounding on store)."""
+        prm = self.prm
+        phi = 0.0
+        for a in range(len(lo)):
+            n = prm[N0 + a]
+            phi += ((lo[a] if n > 0.0 else hi[a]) - prm[P0 + a]) * n
+        if phi >= 0.0:
+            return None
+        grow = np.abs(phi * prm[N0:N0 + len(lo)]) + 1e-6 * np.maximum(np.abs(lo), np.abs(hi)) + 1e-30
+        return lo - grow, hi + grow

@@ -73,6 +73,9 @@ class ArtificialDamping(ParticleStage):
     def particle_blocks(self, nblocks):
         return [k for k in range(nblocks) if self.zeta[k] > 0.0]
 
+    def particle_reach(self, lo, hi):
+        return lo, hi  # velocities only: the particles stay where they are
+
     def particle_args(self, dt, time):
         # the per-block factors, one slot per material block (the layout is the case's material order)
         np.exp(-self.zeta * dt, out=self.factor)

@@ -16,7 +16,7 @@ backend's (backend/base.py).
 Only the stages the case asks for are in the lists; a case without damping
 has no damping pass.  Stages are ordered by their declared ``phase``
 (contract/stages.py), never by plugin name; each gives per-node or per-particle
-functions that the backend runs (``grid_stage``, ``particle_stage``).
+functions that the backend runs (``grid_stage``, ``particle_stages``).
 """
 
 from __future__ import annotations
@@ -83,8 +83,7 @@ class Simulation:
         return view
 
     def _end(self, view, dt):
-        for stage in self.particle_stages:
-            self.backend.particle_stage(stage, dt, self.time)
+        self.backend.particle_stages(self.particle_stages, dt, self.time)
         self._end_stress(view, dt)
 
     def _end_stress(self, view, dt):
@@ -131,8 +130,7 @@ class Simulation:
         wet.split(view, dt)
         wet.water_g2p(view, dt)
         be.g2p(view, dt, set_velocity=True, move=True, gradient=True)
-        for stage in self.particle_stages:
-            be.particle_stage(stage, dt, self.time)
+        be.particle_stages(self.particle_stages, dt, self.time)
         wet.porosity()
         self._end_stress(view, dt)
 

@@ -1,4 +1,4 @@
-"""The private per-chunk grids of the race-free P2G (kernels/transfer3d.py).
+"""The private per-chunk grids of the race-free P2G (kernels/transfer3d.py), and G2P's chunks.
 
 Each chunk of particles scatters into its own grid, interleaved per node
 (``c_grid (nchunks, >= nn, 1 + d or 1 + 2d)``); the grids are then summed in
@@ -6,6 +6,19 @@ chunk order, so the result depends on the chunk count only.
 """
 
 from numba import njit, prange
+
+#: the most particle chunks of a G2P pass: enough to balance any core count (kernels/transfer3d.py)
+G2P_CHUNKS = 64 * 8
+#: the sentinel of an empty chunk's box [m]: finite, because the transfer kernels' fastmath assumes no
+#: infinities
+FAR = 1e300
+
+
+@njit(cache=True)
+def g2p_chunks(n):
+    """The chunks of a G2P pass over n particles: contiguous ranges, each with its row of the particles'
+    box (``p_box``)."""
+    return max(1, min(n, G2P_CHUNKS))
 
 
 @njit(cache=True)

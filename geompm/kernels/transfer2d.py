@@ -8,7 +8,7 @@ tests/support/reference_transfer.py with split force.
 import numpy as np
 from numba import njit, prange
 
-from geompm.kernels.chunks import sum_interleaved, zero_rows
+from geompm.kernels.chunks import FAR, g2p_chunks, sum_interleaved, zero_rows
 from geompm.kernels.stencil import APIC, FLIP, MLS, axis_stencil, mls_derivatives
 from geompm.kernels.volume import update_volume
 
@@ -77,16 +77,19 @@ def p2g_2d(tag, scheme, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind,
 
 @njit(parallel=True, fastmath=True, cache=True)
 def g2p_2d(tag, scheme, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,
-           origin, h, kind, lo, nloc, dt, flip_ratio, apic_dinv, set_velocity, move, do_gradient):
-    """2D G2P (see tests/reference_transfer.g2p); L keeps its 3x3 plane-strain form (z row and column zero)."""
+           origin, h, kind, lo, nloc, dt, flip_ratio, apic_dinv, set_velocity, move, do_gradient, p_box):
+    """2D G2P (see tests/reference_transfer.g2p); L keeps its 3x3 plane-strain form (z row and column zero).
+    With ``move``, ``p_box[c, :, :2]`` the box of chunk c's moved particles, as in g2p_3d."""
     n = p_x.shape[0]
     S = len(tag)
     mode = len(scheme) - 1  # compile-time (stencil.scheme_tag)
     inv_h = 1.0 / h
     sx = nloc[1]
-    nchunks = max(1, min(n, 64 * 8))
+    nchunks = g2p_chunks(n)
     for c in prange(nchunks):
         L = np.zeros((3, 3))
+        lo0 = lo1 = FAR  # finite: the kernel's fastmath assumes no infinities
+        hi0 = hi1 = -FAR
         for p in range(c * n // nchunks, (c + 1) * n // nchunks):
             bx, wx, dx = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
             by, wy, dy = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
@@ -150,6 +153,11 @@ def g2p_2d(tag, scheme, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_o
             if move:
                 p_x[p, 0] += dt * v0
                 p_x[p, 1] += dt * v1
+                lo0, hi0 = min(lo0, p_x[p, 0]), max(hi0, p_x[p, 0])
+                lo1, hi1 = min(lo1, p_x[p, 1]), max(hi1, p_x[p, 1])
             if do_gradient:
                 L[0, 0], L[0, 1], L[1, 0], L[1, 1] = l00, l01, l10, l11
                 update_volume(p, p_L, p_vol, p_rho, p_mass, L, dt)
+        if move:
+            p_box[c, 0, 0], p_box[c, 0, 1] = lo0, lo1
+            p_box[c, 1, 0], p_box[c, 1, 1] = hi0, hi1

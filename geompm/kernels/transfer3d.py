@@ -19,7 +19,7 @@ force through grad w ~ D^-1 w (x_i - x_p) and L = C.
 import numpy as np
 from numba import njit, prange
 
-from geompm.kernels.chunks import sum_interleaved, zero_rows
+from geompm.kernels.chunks import FAR, g2p_chunks, sum_interleaved, zero_rows
 from geompm.kernels.stencil import APIC, FLIP, MLS, axis_stencil, mls_derivatives
 from geompm.kernels.volume import update_volume
 
@@ -140,8 +140,11 @@ def p2g_3d(tag, scheme, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind,
 
 @njit(parallel=True, fastmath=True, cache=True)
 def g2p_3d(tag, scheme, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old,
-           origin, h, kind, lo, nloc, dt, flip_ratio, apic_dinv, set_velocity, move, do_gradient):
+           origin, h, kind, lo, nloc, dt, flip_ratio, apic_dinv, set_velocity, move, do_gradient, p_box):
     """3D G2P (see tests/reference_transfer.g2p for the modes and flags).
+
+    With ``move``, ``p_box[c] = (lowest, highest)`` position of chunk c's moved particles [m]
+    (chunks: ``g2p_chunks``), the particles' box at no extra pass (backend/cpu.py).
 
     The APIC sum  B = sum w v_i (x_i - x_p)^T  is split as
     (sum w v_i) o^T + h (sum w v_i (i, j, k)^T), o the first node's offset.
@@ -151,13 +154,15 @@ def g2p_3d(tag, scheme, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_o
     inv_h = 1.0 / h
     sy = nloc[2]
     sx = nloc[1] * nloc[2]
-    nchunks = max(1, min(n, 64 * 8))
+    nchunks = g2p_chunks(n)
     mode = len(scheme) - 1  # compile-time (stencil.scheme_tag)
     flip = mode == FLIP
     mls = mode == MLS
     for c in prange(nchunks):
         L = np.zeros((3, 3))
         B = np.zeros((3, 3))
+        lo0 = lo1 = lo2 = FAR  # finite: the kernel's fastmath assumes no infinities
+        hi0 = hi1 = hi2 = -FAR
         for p in range(c * n // nchunks, (c + 1) * n // nchunks):
             bx, wx, dx = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
             by, wy, dy = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
@@ -189,6 +194,13 @@ def g2p_3d(tag, scheme, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_o
             _finish(p, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, origin, h, bx, by, bz,
                     v0, v1, v2, d0, d1, d2, L, B, dt, S, mode, flip_ratio, apic_dinv, set_velocity, move,
                     do_gradient)
+            if move:
+                lo0, hi0 = min(lo0, p_x[p, 0]), max(hi0, p_x[p, 0])
+                lo1, hi1 = min(lo1, p_x[p, 1]), max(hi1, p_x[p, 1])
+                lo2, hi2 = min(lo2, p_x[p, 2]), max(hi2, p_x[p, 2])
+        if move:
+            p_box[c, 0, 0], p_box[c, 0, 1], p_box[c, 0, 2] = lo0, lo1, lo2
+            p_box[c, 1, 0], p_box[c, 1, 1], p_box[c, 1, 2] = hi0, hi1, hi2
 
 
 @njit(cache=True, inline="always")

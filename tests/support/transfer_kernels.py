@@ -9,6 +9,7 @@ mode (force in its own columns), wrapped to take the same arguments.
 import numpy as np
 
 from geompm.backend.cpu import TRANSFERS
+from geompm.kernels.chunks import G2P_CHUNKS
 from geompm.kernels.stencil import SCHEMES, scheme_tag, stencil_tag
 
 from .reference_transfer import g2p as generic_g2p
@@ -25,9 +26,11 @@ def _specialised(dim):
                  True, 1.0 if with_force else 0.0, 0.0, g_mass, g_mom, g_force)
 
     def g2p(x, *args):
-        """The reference's arguments, its run-time ``mode`` (args[14]) turned into the scheme tag."""
+        """The reference's arguments, its run-time ``mode`` (args[14]) turned into the scheme tag, and the
+        rows of the moved particles' box that the specialised kernel fills."""
         kind, mode = args[10], args[14]
-        fast_g2p(stencil_tag(kind), scheme_tag(SCHEMES[mode]), x, *args[:14], *args[15:])
+        fast_g2p(stencil_tag(kind), scheme_tag(SCHEMES[mode]), x, *args[:14], *args[15:],
+                 np.zeros((G2P_CHUNKS, 2, 3)))
 
     return p2g, g2p
 
