@@ -13,7 +13,8 @@ so each colour's blocks run in parallel without atomics, private grids or a redu
 Run it with NUMBA_SLP_VECTORIZE=1 and =0 (each with its own NUMBA_CACHE_DIR): numba leaves LLVM's SLP
 vectoriser off by default (numba.core.config.SLP_VECTORIZE = 0), and it is what packs a node's four updates.
 
-Printed: ns per particle of each P2G (best of --repeats, 2 threads unless NUMBA_NUM_THREADS says otherwise),
+Printed: ns per particle of each P2G (best of --repeats, 2 threads unless NUMBA_NUM_THREADS says otherwise;
+then 4 x --repeats rounds of the two in turn: their medians and the quartiles of the per-round ratio),
 the cost of grouping the particles by block (a counting sort of an index, per step or per sort), and the
 largest difference of the two grids (they must agree to round-off).  The scene's particles are in the order
 geompm's spatial sort leaves them.
@@ -178,6 +179,18 @@ def best(fn, repeats):
     return t
 
 
+def interleaved(a, b, rounds):
+    """Times of a and b run in turn (the order alternating each round), and the per-round ratios b / a: a
+    drift of the machine falls on both."""
+    ta, tb = [], []
+    for r in range(rounds):
+        for fn, out in (((a, ta), (b, tb)) if r % 2 == 0 else ((b, tb), (a, ta))):
+            t0 = time.perf_counter()
+            fn()
+            out.append(time.perf_counter() - t0)
+    return np.array(ta), np.array(tb), np.array(tb) / np.array(ta)
+
+
 def main() -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--cells", type=int, default=64)
@@ -218,13 +231,17 @@ def main() -> int:
                      st.p_stress, g.origin, g.h, g.kind, view.lo, view.nloc, dt, sc.apic_dinv, grid, zero)
 
     t_col = best(coloured, a.repeats)
+    ta, tb, ratio = interleaved(chunked, coloured, 4 * a.repeats)
     dm = np.abs(grid[:, 0] - ref_m).max() / np.abs(ref_m).max()
     dmv = np.abs(grid[:, 1:] - ref_mv).max() / np.abs(ref_mv).max()
     import numba
     print(json.dumps({"particles": n, "nodes": nn, "threads": numba.get_num_threads(), "block": a.block,
                       "blocks": int(len(blocks)), "particles_per_block": n / max(len(blocks), 1),
                       "chunked_ns": 1e9 * t_chunked / n, "coloured_ns": 1e9 * t_col / n,
-                      "group_ns": 1e9 * t_group / n, "diff_mass": float(dm), "diff_momentum": float(dmv)}))
+                      "group_ns": 1e9 * t_group / n, "diff_mass": float(dm), "diff_momentum": float(dmv),
+                      "interleaved_rounds": len(ratio), "chunked_median_ns": 1e9 * float(np.median(ta)) / n,
+                      "coloured_median_ns": 1e9 * float(np.median(tb)) / n,
+                      "coloured_over_chunked": [float(q) for q in np.quantile(ratio, [0.25, 0.5, 0.75])]}))
     return 0
 
 

@@ -12,7 +12,9 @@ Each round runs, in an order that alternates between rounds so that a drift of t
 - the Taichi peer (benchmarks/peers/taichi_fluid3d.py) with ``--scheme usl`` and ``--scheme mls``, float64,
   on all cores, and ``--scheme mls --threads 1``.
 
-Prints every run's ns per particle-step as it comes, then the median of each over the rounds and the ratios
+Each geompm run also measures the machine's limits over its threads (the bench's triad and scalar
+multiply-add rate, in GB/s and GFLOP/s), so the 2-thread scaling of the machine itself stands beside the
+step's.  Prints every run's figures as they come, then the median of each over the rounds and the ratios
 the issue names: fluid3d_mls / Taichi mls (target >= 4x), fluid3d (APIC) / Taichi usl (>= 4x), dp3d_mls /
 Taichi mls (>= 3x), float32 against float64, 2 threads against 1 (>= 1.8x).  Speed ratios are peer time /
 geompm time, so above 1 means geompm is faster.
@@ -35,8 +37,10 @@ PEER = ROOT / "benchmarks" / "peers" / "taichi_fluid3d.py"
 
 
 def geompm_runs(steps: int, sets: list[str], env: dict) -> dict[str, float]:
-    """ns per particle-step of each scene of SCENES, from one ``geompm bench --json`` run."""
-    cmd = [sys.executable, "-m", "geompm.cli", "bench", "--no-cold", "--no-bandwidth", "--json", "--steps",
+    """ns per particle-step of each scene of SCENES, from one ``geompm bench --json`` run, and the machine's
+    limits that the bench measures in the same run: ``triad`` [GB/s] and ``scalar`` multiply-add rate
+    [GFLOP/s] over the run's threads."""
+    cmd = [sys.executable, "-m", "geompm.cli", "bench", "--no-cold", "--json", "--steps",
            str(steps), "--dir", str(ROOT / "benchmarks")]
     for s in SCENES:
         cmd += ["--scene", s]
@@ -49,6 +53,9 @@ def geompm_runs(steps: int, sets: list[str], env: dict) -> dict[str, float]:
             r = json.loads(line)
             if "ns_per_particle_step" in r:
                 found[r["scene"].split(":")[0]] = r["ns_per_particle_step"]
+            elif r.get("scene") == "bandwidth":
+                found["triad"] = r["triad_bytes_per_s"] / 1e9
+                found["scalar"] = r["scalar_flops_per_s"] / 1e9
     return found
 
 
@@ -87,7 +94,7 @@ def main() -> int:
             got[name].append(res)
             print(f"round {r + 1} {name}: " + ", ".join(f"{k} {v:.1f}" for k, v in res.items()), flush=True)
     med = {name: {k: statistics.median(run[k] for run in runs) for k in runs[0]} for name, runs in got.items()}
-    print("\nmedian ns per particle-step over", a.rounds, "rounds:")
+    print("\nmedians over", a.rounds, "rounds (ns per particle-step; triad GB/s, scalar GFLOP/s):")
     for name, vals in med.items():
         print(f"  {name}: " + ", ".join(f"{k} {v:.1f}" for k, v in vals.items()))
     g, f32, one, t = med["geompm f64"], med["geompm f32"], med["geompm f64 1 thread"], med["taichi"]
@@ -99,6 +106,8 @@ def main() -> int:
         print(f"  {s}: float32 storage {g[s] / f32[s]:.2f}x float64; 2 threads {one[s] / g[s]:.2f}x 1 thread "
               f"(>= 1.8)")
     print(f"  Taichi mls: 2 threads {t['mls 1 thread'] / t['mls']:.2f}x 1 thread")
+    print(f"  the machine: scalar multiply-add rate, 2 threads {g['scalar'] / one['scalar']:.2f}x 1 thread; "
+          f"triad {g['triad'] / one['triad']:.2f}x")
     print(json.dumps({"median_ns_per_particle_step": med}))
     return 0
 

@@ -191,7 +191,7 @@ class CpuBackend(Backend):
             if args is None:
                 continue
             if box is not None:
-                reach = stage.particle_reach(*box)
+                reach = stage.particle_reach(args[0], *box)
                 if reach is None:
                     out = self._plan_of(stage)["particle_out"]
                     out.fill(0.0)

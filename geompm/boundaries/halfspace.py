@@ -97,7 +97,7 @@ class HalfSpace(GridStage, ParticleStage):
     def particle_args(self, dt, time):
         return self.prm, NO_AUX
 
-    def particle_reach(self, lo, hi):
+    def particle_reach(self, prm, lo, hi):
         """Skip the pass when the box's deepest corner is not behind the surface.
 
         phi is computed at that corner in the rule's own arithmetic; each of its terms and its running sum
@@ -105,7 +105,6 @@ class HalfSpace(GridStage, ParticleStage):
         and the rule would return at once for all of them.  Otherwise the rule moves a particle by
         -phi n with |phi| <= |phi at the corner|: the box grows by that much along every axis (and by
         1e-6 of its coordinates for a float32 state's rounding on store)."""
-        prm = self.prm
         phi = 0.0
         for a in range(len(lo)):
             n = prm[N0 + a]

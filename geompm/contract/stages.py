@@ -205,12 +205,13 @@ class ParticleStage(Stage):
         """The material blocks the rule acts on (default: all)."""
         return range(nblocks)
 
-    def particle_reach(self, lo, hi):
-        """What this pass can do when every particle lies in the box [lo, hi] ((d,) arrays [m], the moved
-        particles' bounds that the backend's G2P finds): None when the rule would change no particle in
-        the box and add nothing to the reduction (the backend may then skip the pass and hand
-        ``particle_reduced`` zero rows), else (lo, hi) of a box holding every particle after the pass.
-        The default: the pass runs, and afterwards the particles may be anywhere (an unbounded box)."""
+    def particle_reach(self, prm, lo, hi):
+        """What this pass, with parameters ``prm`` (``particle_args``' first item), can do when every
+        particle lies in the box [lo, hi] ((d,) arrays [m], the moved particles' bounds that the
+        backend's G2P finds): None when the rule would change no particle in the box and add nothing to
+        the reduction (the backend may then skip the pass and hand ``particle_reduced`` zero rows), else
+        (lo, hi) of a box holding every particle after the pass.  The default: the pass runs, and
+        afterwards the particles may be anywhere (an unbounded box)."""
         return np.full(len(lo), -np.inf), np.full(len(hi), np.inf)
 
     def particle_reduced(self, out, dt: float, time: float) -> None:

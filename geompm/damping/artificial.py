@@ -73,7 +73,7 @@ class ArtificialDamping(ParticleStage):
     def particle_blocks(self, nblocks):
         return [k for k in range(nblocks) if self.zeta[k] > 0.0]
 
-    def particle_reach(self, lo, hi):
+    def particle_reach(self, prm, lo, hi):
         return lo, hi  # velocities only: the particles stay where they are
 
     def particle_args(self, dt, time):

@@ -123,7 +123,7 @@ def test_halfspace_reach_is_exact():
         hi = lo + rng.uniform(0.0, 0.8, 3)
         corners = np.array([[(lo, hi)[(c >> a) & 1][a] for a in range(3)] for c in range(8)])
         pts = np.vstack([corners, rng.uniform(lo, hi, (64, 3))])
-        reach = hs.particle_reach(lo, hi)
+        reach = hs.particle_reach(hs.prm, lo, hi)
         moved = []
         for x in pts:
             x = x.copy()
@@ -140,6 +140,47 @@ def test_halfspace_reach_is_exact():
                 assert np.all(x >= reach[0]) and np.all(x <= reach[1])
     assert skipped > 30 and reached > 30
     touching = _halfspace([0.0, 0.25, 0.0], [0.0, 1.0, 0.0])  # the box's floor on the plane: phi = 0, kept
-    assert touching.particle_reach(np.array([0.1, 0.25, 0.1]), np.array([0.2, 0.5, 0.2])) is None
-    assert touching.particle_reach(np.array([0.1, np.nextafter(0.25, 0.0), 0.1]),
+    assert touching.particle_reach(touching.prm, np.array([0.1, 0.25, 0.1]), np.array([0.2, 0.5, 0.2])) is None
+    assert touching.particle_reach(touching.prm, np.array([0.1, np.nextafter(0.25, 0.0), 0.1]),
                                    np.array([0.2, 0.5, 0.2])) is not None
+
+
+def test_obstacle_guard_skipped_until_the_debris_nears_it():
+    """A block thrown at a box obstacle (2D): the guard is skipped while the particles' box lies beside its
+    lattice and runs once the block nears it; the positions and the obstacle's force history are
+    bit-for-bit those of a run of every guard pass, and the guard did put particles back (a run that
+    skipped it throughout would differ)."""
+    from geompm.obstacles.base import RigidObstacle
+
+    case = _case(2)
+    case["bodies"][0]["velocity"] = [10.0, -20.0]
+    case["obstacles"] = [{"type": "box", "min": [0.72, 0.1], "max": [0.8, 0.5]}]
+
+    def run(skip):
+        reach = RigidObstacle.particle_reach
+        if not skip:
+            RigidObstacle.particle_reach = ParticleStage.particle_reach
+        try:
+            sim = Simulation(scene_from_dict(case))
+            be, ran = sim.backend, [0]
+            inner = be._particle_pass
+
+            def counted(stage, *a):
+                ran[0] += isinstance(stage, RigidObstacle)
+                return inner(stage, *a)
+
+            be._particle_pass = counted
+            guard = next(s for s in sim.particle_stages if isinstance(s, RigidObstacle))
+            forces = []
+            for _ in range(60):
+                sim.step(sim.stable_dt())
+                forces.append(guard.force.copy())
+        finally:
+            RigidObstacle.particle_reach = reach
+        return sim.state.p_x.copy(), np.array(forces), ran[0], guard.particles_put_back
+
+    x, f, ran, back = run(True)
+    x_all, f_all, ran_all, back_all = run(False)
+    assert np.array_equal(x, x_all) and np.array_equal(f, f_all)
+    assert ran_all == 60 and 0 < ran < 60
+    assert back == back_all > 0
