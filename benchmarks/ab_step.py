@@ -1,6 +1,7 @@
 """Interleaved A/B of the time per step between two checkouts of geompm ("ping-pong").
 
     python benchmarks/ab_step.py OLD_CHECKOUT SCENE [--chunk 10] [--rounds 16] [--set K=V ...] [--new-set K=V ...]
+                                 [--new-env NAME=VALUE ...]
 
 SCENE is a case of benchmarks/ (e.g. dp2d).  Two processes, one importing geompm from OLD_CHECKOUT
 (PYTHONPATH), one from this checkout, step the same scene in turn, ``--chunk`` steps each, for
@@ -50,11 +51,15 @@ def main() -> int:
     p.add_argument("--rounds", type=int, default=16)
     p.add_argument("--set", action="append", default=[], help="override for both")
     p.add_argument("--new-set", action="append", default=[], help="override for the new checkout only")
+    p.add_argument("--new-env", action="append", default=[], metavar="NAME=VALUE",
+                   help="environment variable for the new checkout's process only (e.g. NUMBA_SLP_VECTORIZE=1, "
+                        "with its own NUMBA_CACHE_DIR so that neither loads the other's compiled code)")
     a = p.parse_args()
     old = a.old.resolve()
     procs = []
-    for root, extra in ((old, []), (HERE.parent, a.new_set)):
+    for root, extra, more_env in ((old, [], []), (HERE.parent, a.new_set, a.new_env)):
         env = dict(os.environ, PYTHONPATH=str(root))
+        env.update(kv.split("=", 1) for kv in more_env)
         case = str(root / "benchmarks" / f"{a.scene}.json")
         procs.append(subprocess.Popen([sys.executable, __file__, "--worker", case, *a.set, *extra], cwd=root,
                                       env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
@@ -73,7 +78,7 @@ def main() -> int:
         pr.wait()
     ratio = [n / o for o, n in zip(*times)]
     q = statistics.quantiles(ratio, n=4)
-    print(f"{a.scene} {a.set} new+{a.new_set}: old {statistics.median(times[0]) * 1e3:.2f} ms/step, "
+    print(f"{a.scene} {a.set} new+{a.new_set}{a.new_env}: old {statistics.median(times[0]) * 1e3:.2f} ms/step, "
           f"new {statistics.median(times[1]) * 1e3:.2f} ms/step; new/old per round median "
           f"{statistics.median(ratio):.3f} (quartiles {q[0]:.3f}-{q[2]:.3f}), {a.rounds} rounds of {a.chunk} steps")
     return 0

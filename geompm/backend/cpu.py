@@ -20,6 +20,7 @@ from geompm.kernels.grid_update import grid_update, grid_update_folded, momentum
 from geompm.kernels.stencil import scheme_tag, stencil_tag
 from geompm.kernels.transfer2d import g2p_2d, p2g_2d
 from geompm.kernels.transfer3d import g2p_3d, p2g_3d
+from geompm.kernels.vectorised import Vectorised
 from geompm.contract.stages import FAR_NODE, GridStage, ParticleStage
 from geompm.backend.base import Backend
 from geompm.backend.cpu_loops import update_law_block
@@ -28,8 +29,8 @@ from geompm.backend.cpu_stage_loops import merge_loop, node_loop, particle_loop
 from geompm.backend.twophase_cpu import SaturatedCpu
 from geompm.kernels.phreatic import total_stress
 
-#: the transfer kernels of each dimension
-TRANSFERS = {2: (p2g_2d, g2p_2d), 3: (p2g_3d, g2p_3d)}
+#: the transfer kernels of each dimension, compiled with LLVM's SLP vectoriser (kernels/vectorised.py)
+TRANSFERS = {2: (Vectorised(p2g_2d), Vectorised(g2p_2d)), 3: (Vectorised(p2g_3d), Vectorised(g2p_3d))}
 
 
 class CpuBackend(Backend):

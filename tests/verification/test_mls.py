@@ -16,6 +16,7 @@ import pytest
 
 from geompm.api import scene_from_file
 from geompm.backend.cpu import TRANSFERS
+from geompm.kernels.chunks import G2P_CHUNKS
 from geompm.kernels.shape import APIC_D_FACTOR, axis_weights, support
 from geompm.kernels.stencil import scheme_tag, stencil_tag
 
@@ -72,7 +73,7 @@ def test_mls_force_and_velocity_gradient_follow_the_definitions(dim, kind):
     g_vel = rng.normal(size=(nn, dim))
     out_v, out_C, out_L = v.copy(), C.copy(), np.zeros((n, 3, 3))
     g2p(stencil_tag(kind), scheme_tag("mls"), x.copy(), out_v, out_C, out_L, vol.copy(), np.zeros(n), m, g_vel,
-        g_vel, origin, H, kind, lo, nloc, 1e-3, 0.0, dinv, True, True, True)
+        g_vel, origin, H, kind, lo, nloc, 1e-3, 0.0, dinv, True, True, True, np.zeros((G2P_CHUNKS, 2, 3)))
     for p in range(n):
         vp, B = np.zeros(dim), np.zeros((dim, dim))
         for node, w in _stencil(x[p], kind, origin):
