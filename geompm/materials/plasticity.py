@@ -10,7 +10,6 @@ increment:  sigma_tr = sigma_n + dt (W sigma - sigma W) + dt (lambda tr(D) I + 2
 
 import math
 
-import numpy as np
 from numba import njit
 from pydantic import Field
 
