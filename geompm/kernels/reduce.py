@@ -27,9 +27,14 @@ def cell_bounds(p_x, origin, inv_h):
                 part[c, 0, a] = min(part[c, 0, a], x)
                 part[c, 1, a] = max(part[c, 1, a], x)
                 part[c, 2, a] += x
-    lo, hi, total = np.empty(d), np.empty(d), np.empty(d)
-    for a in range(d):
-        lo[a], hi[a], total[a] = part[:, 0, a].min(), part[:, 1, a].max(), part[:, 2, a].sum()
+    # the chunks' rows combined in plain loops: numpy's min, max and sum of the column slices compiled in
+    # 3.0 s against 1.2 s (a tenth of a cold start's wait; the sum only flags a NaN or Inf)
+    lo, hi, total = part[0, 0].copy(), part[0, 1].copy(), part[0, 2].copy()
+    for c in range(1, nchunks):
+        for a in range(d):
+            lo[a] = min(lo[a], part[c, 0, a])
+            hi[a] = max(hi[a], part[c, 1, a])
+            total[a] += part[c, 2, a]
     return cells_of_bounds(lo, hi, total, origin, inv_h)
 
 
