@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from geompm.mpm.grid import GridBuffers
-from geompm.kernels.chunks import G2P_CHUNKS
+from geompm.kernels.chunks import G2P_CHUNKS, g2p_chunks
 from geompm.kernels.grid_update import grid_update, grid_update_folded, momentum_to_velocity
 from geompm.kernels.stencil import scheme_tag, stencil_tag
 from geompm.kernels.transfer2d import g2p_2d, p2g_2d
@@ -115,7 +115,7 @@ class CpuBackend(Backend):
                         sc.apic_dinv, set_velocity, move, gradient, self._box_rows)
         self.p_box = None
         if move and st.n:
-            rows, d = self._box_rows[:min(st.n, G2P_CHUNKS)], sc.dim
+            rows, d = self._box_rows[:g2p_chunks(st.n)], sc.dim  # the kernel's own chunk count
             self.p_box = (rows[:, 0, :d].min(axis=0), rows[:, 1, :d].max(axis=0))
 
     def update_stress(self, dt: float) -> None:

@@ -7,8 +7,8 @@ momentum components, or three velocity components) into one SIMD multiply-add:
 with it the 3D P2G's node updates compile to 4-wide ``vfmadd...pd`` on ymm
 registers, and without it they are all scalar.  Measured on the 2-core
 development machine (docs/performance.md, issue 38): the MLS P2G took 33 against
-54-63 ns per particle, and the whole step 0.87-0.98 of its time without it
-(interleaved runs).
+54-63 ns per particle, and the whole step 0.89-0.96 of its time without it
+(interleaved runs, five scenes).
 
 ``Vectorised(dispatcher)`` calls the dispatcher with the setting on, so that
 any compilation the call triggers (the first call of each signature, the
@@ -17,8 +17,9 @@ after: other numba code in the process is not affected.  numba reads the
 setting when it builds each compilation's pass pipeline.  Its on-disk cache
 does not record it, so these kernels must be called only through their
 ``Vectorised`` wrapper (backend/cpu.py ``TRANSFERS``); code loaded from the
-cache runs as it was compiled.  With fast-math on, the packed sums may round
-differently: every shipped case's series was compared (docs/performance.md).
+cache runs as it was compiled.  The packed lanes do the scalar code's
+arithmetic: every shipped case's series is unchanged to the last bit
+(docs/performance.md).
 """
 
 from __future__ import annotations
