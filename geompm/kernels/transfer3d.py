@@ -19,7 +19,7 @@ force through grad w ~ D^-1 w (x_i - x_p) and L = C.
 import numpy as np
 from numba import njit, prange
 
-from geompm.kernels.chunks import FAR, g2p_chunks, sum_interleaved, zero_rows
+from geompm.kernels.chunks import CHUNK_BODY, FAR, g2p_chunks, sum_interleaved, zero_rows
 from geompm.kernels.stencil import APIC, FLIP, MLS, axis_stencil, mls_derivatives
 from geompm.kernels.volume import update_volume
 
@@ -37,105 +37,112 @@ def p2g_3d(tag, scheme, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind,
     MLS (``scheme``, stencil.scheme_tag): the MLS-MPM force (Hu et al. 2018), grad w replaced by D^-1 w (x_i - x_p)
     with D^-1 = mls_dinv [1/m2]; folded, it is an affine term and costs nothing per node.
     """
-    n = p_x.shape[0]
     nchunks = c_grid.shape[0]
-    width = c_grid.shape[2]
-    nn = g_mass.shape[0]
+    for c in prange(nchunks):
+        _p2g_chunk_3d(np.uint64(c), nchunks, tag, scheme, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind,
+                      lo, nloc, c_grid[c], g_mass.shape[0], split, f_scale, mls_dinv)
+    sum_interleaved(c_grid, split, g_mass, g_mom, g_force)
+
+
+@njit(**CHUNK_BODY)
+def _p2g_chunk_3d(c, nchunks, tag, scheme, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc,
+                  g, nn, split, f_scale, mls_dinv):
+    """P2G of chunk c of nchunks (a contiguous range of particles) into its private grid g (its first nn rows
+    zeroed first): the body of p2g_3d's parallel loop (chunks.CHUNK_BODY)."""
+    n = p_x.shape[0]
+    width = g.shape[1]
     S = len(tag)
     inv_h = 1.0 / h
     sy = nloc[2]
     sx = nloc[1] * nloc[2]
     mls = len(scheme) - 1 == MLS  # compile-time (stencil.scheme_tag)
     affine_force = mls and not split
-    for c in prange(nchunks):
-        g = c_grid[c]
-        zero_rows(g, nn, width)
-        for p in range(c * n // nchunks, (c + 1) * n // nchunks):
-            bx, wx, dx = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
-            by, wy, dy = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
-            bz, wz, dz = axis_stencil((p_x[p, 2] - origin[2]) * inv_h, kind, inv_h)
-            m = p_mass[p]
-            # offset of the first stencil node from the particle [m]
-            ox = bx * h + origin[0] - p_x[p, 0]
-            oy = by * h + origin[1] - p_x[p, 1]
-            oz = bz * h + origin[2] - p_x[p, 2]
-            # -V sigma f_scale (Voigt xx, yy, zz, xy, yz, xz)
-            nv = -p_vol[p] * f_scale
-            sxx, syy, szz = nv * p_stress[p, 0], nv * p_stress[p, 1], nv * p_stress[p, 2]
-            sxy, syz, sxz = nv * p_stress[p, 3], nv * p_stress[p, 4], nv * p_stress[p, 5]
-            # affine momentum matrix A = m C [kg/s]
-            a00, a01, a02 = m * p_C[p, 0, 0], m * p_C[p, 0, 1], m * p_C[p, 0, 2]
-            a10, a11, a12 = m * p_C[p, 1, 0], m * p_C[p, 1, 1], m * p_C[p, 1, 2]
-            a20, a21, a22 = m * p_C[p, 2, 0], m * p_C[p, 2, 1], m * p_C[p, 2, 2]
-            if affine_force:  # MLS, folded: -f_scale V sigma D^-1 joins A (Hu et al. 2018)
-                a00, a01, a02 = a00 + mls_dinv * sxx, a01 + mls_dinv * sxy, a02 + mls_dinv * sxz
-                a10, a11, a12 = a10 + mls_dinv * sxy, a11 + mls_dinv * syy, a12 + mls_dinv * syz
-                a20, a21, a22 = a20 + mls_dinv * sxz, a21 + mls_dinv * syz, a22 + mls_dinv * szz
-            elif mls:  # MLS, split: the same force through grad w ~ D^-1 w (x_i - x_p)
-                dx = mls_derivatives(wx, ox, h, mls_dinv)
-                dy = mls_derivatives(wy, oy, h, mls_dinv)
-                dz = mls_derivatives(wz, oz, h, mls_dinv)
-            # momentum at the first node, and its increments per node step along x, y, z
-            q0 = m * p_v[p, 0] + a00 * ox + a01 * oy + a02 * oz
-            q1 = m * p_v[p, 1] + a10 * ox + a11 * oy + a12 * oz
-            q2 = m * p_v[p, 2] + a20 * ox + a21 * oy + a22 * oz
-            ax0, ax1, ax2 = h * a00, h * a10, h * a20
-            ay0, ay1, ay2 = h * a01, h * a11, h * a21
-            az0, az1, az2 = h * a02, h * a12, h * a22
-            base = (bx - lo[0]) * sx + (by - lo[1]) * sy + (bz - lo[2])
-            for i in range(S):
-                wi = wx[i]
-                dwi = dx[i]
-                qi0, qi1, qi2 = q0 + i * ax0, q1 + i * ax1, q2 + i * ax2
-                for j in range(S):
-                    wij = wi * wy[j]
-                    gx = dwi * wy[j]
-                    gy = wi * dy[j]
-                    # node (i, j, k): mass mij wk, momentum Q wk + R k wk, force Fa wk + Fb dwk
-                    mij = wij * m
-                    Q0, Q1, Q2 = wij * (qi0 + j * ay0), wij * (qi1 + j * ay1), wij * (qi2 + j * ay2)
-                    R0, R1, R2 = wij * az0, wij * az1, wij * az2
-                    Fa0 = sxx * gx + sxy * gy
-                    Fa1 = sxy * gx + syy * gy
-                    Fa2 = sxz * gx + syz * gy
-                    Fb0, Fb1, Fb2 = sxz * wij, syz * wij, szz * wij
-                    idx = base + i * sx + j * sy
-                    if split:
-                        for k in range(S):
-                            wk = wz[k]
-                            kwk = k * wk
-                            dwk = dz[k]
-                            r = g[idx + k]
-                            r[0] += mij * wk
-                            r[1] += Q0 * wk + R0 * kwk
-                            r[2] += Q1 * wk + R1 * kwk
-                            r[3] += Q2 * wk + R2 * kwk
-                            r[4] += Fa0 * wk + Fb0 * dwk
-                            r[5] += Fa1 * wk + Fb1 * dwk
-                            r[6] += Fa2 * wk + Fb2 * dwk
-                    elif affine_force:
-                        for k in range(S):
-                            wk = wz[k]
-                            kwk = k * wk
-                            r = g[idx + k]
-                            r[0] += mij * wk
-                            r[1] += Q0 * wk + R0 * kwk
-                            r[2] += Q1 * wk + R1 * kwk
-                            r[3] += Q2 * wk + R2 * kwk
-                    else:
-                        Q0 += Fa0
-                        Q1 += Fa1
-                        Q2 += Fa2
-                        for k in range(S):
-                            wk = wz[k]
-                            kwk = k * wk
-                            dwk = dz[k]
-                            r = g[idx + k]
-                            r[0] += mij * wk
-                            r[1] += Q0 * wk + R0 * kwk + Fb0 * dwk
-                            r[2] += Q1 * wk + R1 * kwk + Fb1 * dwk
-                            r[3] += Q2 * wk + R2 * kwk + Fb2 * dwk
-    sum_interleaved(c_grid, split, g_mass, g_mom, g_force)
+    zero_rows(g, nn, width)
+    for p in range(c * n // nchunks, (c + 1) * n // nchunks):
+        bx, wx, dx = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
+        by, wy, dy = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
+        bz, wz, dz = axis_stencil((p_x[p, 2] - origin[2]) * inv_h, kind, inv_h)
+        m = p_mass[p]
+        # offset of the first stencil node from the particle [m]
+        ox = bx * h + origin[0] - p_x[p, 0]
+        oy = by * h + origin[1] - p_x[p, 1]
+        oz = bz * h + origin[2] - p_x[p, 2]
+        # -V sigma f_scale (Voigt xx, yy, zz, xy, yz, xz)
+        nv = -p_vol[p] * f_scale
+        sxx, syy, szz = nv * p_stress[p, 0], nv * p_stress[p, 1], nv * p_stress[p, 2]
+        sxy, syz, sxz = nv * p_stress[p, 3], nv * p_stress[p, 4], nv * p_stress[p, 5]
+        # affine momentum matrix A = m C [kg/s]
+        a00, a01, a02 = m * p_C[p, 0, 0], m * p_C[p, 0, 1], m * p_C[p, 0, 2]
+        a10, a11, a12 = m * p_C[p, 1, 0], m * p_C[p, 1, 1], m * p_C[p, 1, 2]
+        a20, a21, a22 = m * p_C[p, 2, 0], m * p_C[p, 2, 1], m * p_C[p, 2, 2]
+        if affine_force:  # MLS, folded: -f_scale V sigma D^-1 joins A (Hu et al. 2018)
+            a00, a01, a02 = a00 + mls_dinv * sxx, a01 + mls_dinv * sxy, a02 + mls_dinv * sxz
+            a10, a11, a12 = a10 + mls_dinv * sxy, a11 + mls_dinv * syy, a12 + mls_dinv * syz
+            a20, a21, a22 = a20 + mls_dinv * sxz, a21 + mls_dinv * syz, a22 + mls_dinv * szz
+        elif mls:  # MLS, split: the same force through grad w ~ D^-1 w (x_i - x_p)
+            dx = mls_derivatives(wx, ox, h, mls_dinv)
+            dy = mls_derivatives(wy, oy, h, mls_dinv)
+            dz = mls_derivatives(wz, oz, h, mls_dinv)
+        # momentum at the first node, and its increments per node step along x, y, z
+        q0 = m * p_v[p, 0] + a00 * ox + a01 * oy + a02 * oz
+        q1 = m * p_v[p, 1] + a10 * ox + a11 * oy + a12 * oz
+        q2 = m * p_v[p, 2] + a20 * ox + a21 * oy + a22 * oz
+        ax0, ax1, ax2 = h * a00, h * a10, h * a20
+        ay0, ay1, ay2 = h * a01, h * a11, h * a21
+        az0, az1, az2 = h * a02, h * a12, h * a22
+        base = (bx - lo[0]) * sx + (by - lo[1]) * sy + (bz - lo[2])
+        for i in range(S):
+            wi = wx[i]
+            dwi = dx[i]
+            qi0, qi1, qi2 = q0 + i * ax0, q1 + i * ax1, q2 + i * ax2
+            for j in range(S):
+                wij = wi * wy[j]
+                gx = dwi * wy[j]
+                gy = wi * dy[j]
+                # node (i, j, k): mass mij wk, momentum Q wk + R k wk, force Fa wk + Fb dwk
+                mij = wij * m
+                Q0, Q1, Q2 = wij * (qi0 + j * ay0), wij * (qi1 + j * ay1), wij * (qi2 + j * ay2)
+                R0, R1, R2 = wij * az0, wij * az1, wij * az2
+                Fa0 = sxx * gx + sxy * gy
+                Fa1 = sxy * gx + syy * gy
+                Fa2 = sxz * gx + syz * gy
+                Fb0, Fb1, Fb2 = sxz * wij, syz * wij, szz * wij
+                idx = base + i * sx + j * sy
+                if split:
+                    for k in range(S):
+                        wk = wz[k]
+                        kwk = k * wk
+                        dwk = dz[k]
+                        r = g[idx + k]
+                        r[0] += mij * wk
+                        r[1] += Q0 * wk + R0 * kwk
+                        r[2] += Q1 * wk + R1 * kwk
+                        r[3] += Q2 * wk + R2 * kwk
+                        r[4] += Fa0 * wk + Fb0 * dwk
+                        r[5] += Fa1 * wk + Fb1 * dwk
+                        r[6] += Fa2 * wk + Fb2 * dwk
+                elif affine_force:
+                    for k in range(S):
+                        wk = wz[k]
+                        kwk = k * wk
+                        r = g[idx + k]
+                        r[0] += mij * wk
+                        r[1] += Q0 * wk + R0 * kwk
+                        r[2] += Q1 * wk + R1 * kwk
+                        r[3] += Q2 * wk + R2 * kwk
+                else:
+                    Q0 += Fa0
+                    Q1 += Fa1
+                    Q2 += Fa2
+                    for k in range(S):
+                        wk = wz[k]
+                        kwk = k * wk
+                        dwk = dz[k]
+                        r = g[idx + k]
+                        r[0] += mij * wk
+                        r[1] += Q0 * wk + R0 * kwk + Fb0 * dwk
+                        r[2] += Q1 * wk + R1 * kwk + Fb1 * dwk
+                        r[3] += Q2 * wk + R2 * kwk + Fb2 * dwk
 
 
 @njit(parallel=True, fastmath=True, cache=True)
