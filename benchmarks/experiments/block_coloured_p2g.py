@@ -117,46 +117,9 @@ def p2g_coloured(order, count, blocks, cstart, nb, block, p_x, p_v, p_C, p_mass,
                 bx, wx, _dx = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
                 by, wy, _dy = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
                 bz, wz, _dz = axis_stencil((p_x[p, 2] - origin[2]) * inv_h, kind, inv_h)
-                m = p_mass[p]
-                ox = bx * h + origin[0] - p_x[p, 0]
-                oy = by * h + origin[1] - p_x[p, 1]
-                oz = bz * h + origin[2] - p_x[p, 2]
-                nv = -p_vol[p] * f_scale
-                sxx, syy, szz = nv * p_stress[p, 0], nv * p_stress[p, 1], nv * p_stress[p, 2]
-                sxy, syz, sxz = nv * p_stress[p, 3], nv * p_stress[p, 4], nv * p_stress[p, 5]
-                a00 = m * p_C[p, 0, 0] + mls_dinv * sxx
-                a01 = m * p_C[p, 0, 1] + mls_dinv * sxy
-                a02 = m * p_C[p, 0, 2] + mls_dinv * sxz
-                a10 = m * p_C[p, 1, 0] + mls_dinv * sxy
-                a11 = m * p_C[p, 1, 1] + mls_dinv * syy
-                a12 = m * p_C[p, 1, 2] + mls_dinv * syz
-                a20 = m * p_C[p, 2, 0] + mls_dinv * sxz
-                a21 = m * p_C[p, 2, 1] + mls_dinv * syz
-                a22 = m * p_C[p, 2, 2] + mls_dinv * szz
-                q0 = m * p_v[p, 0] + a00 * ox + a01 * oy + a02 * oz
-                q1 = m * p_v[p, 1] + a10 * ox + a11 * oy + a12 * oz
-                q2 = m * p_v[p, 2] + a20 * ox + a21 * oy + a22 * oz
-                ax0, ax1, ax2 = h * a00, h * a10, h * a20
-                ay0, ay1, ay2 = h * a01, h * a11, h * a21
-                az0, az1, az2 = h * a02, h * a12, h * a22
                 lx, ly, lz = bx - lo[0] - n0, by - lo[1] - n1, bz - lo[2] - n2
-                for i in range(3):
-                    wi = wx[i]
-                    qi0, qi1, qi2 = q0 + i * ax0, q1 + i * ax1, q2 + i * ax2
-                    for j in range(3):
-                        wij = wi * wy[j]
-                        mij = wij * m
-                        Q0, Q1, Q2 = wij * (qi0 + j * ay0), wij * (qi1 + j * ay1), wij * (qi2 + j * ay2)
-                        R0, R1, R2 = wij * az0, wij * az1, wij * az2
-                        Rm = wij * z
-                        for k in range(3):
-                            wk = wz[k]
-                            kwk = k * wk
-                            r = s[lx + i, ly + j, lz + k]
-                            r[0] += mij * wk + Rm * kwk
-                            r[1] += Q0 * wk + R0 * kwk
-                            r[2] += Q1 * wk + R1 * kwk
-                            r[3] += Q2 * wk + R2 * kwk
+                _scatter_mls(p, bx, wx, by, wy, bz, wz, lx, ly, lz, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h,
+                             f_scale, mls_dinv, z, s)
             for i in range(W):
                 gx = n0 + i
                 if gx >= nloc[0]:
@@ -205,45 +168,8 @@ def p2g_coloured_slack(count, blocks, cstart, nb, block, slack, p_x, p_v, p_C, p
                 if lx < 0 or ly < 0 or lz < 0 or lx > top or ly > top or lz > top:
                     missed += 1
                     continue
-                m = p_mass[p]
-                ox = bx * h + origin[0] - p_x[p, 0]
-                oy = by * h + origin[1] - p_x[p, 1]
-                oz = bz * h + origin[2] - p_x[p, 2]
-                nv = -p_vol[p] * f_scale
-                sxx, syy, szz = nv * p_stress[p, 0], nv * p_stress[p, 1], nv * p_stress[p, 2]
-                sxy, syz, sxz = nv * p_stress[p, 3], nv * p_stress[p, 4], nv * p_stress[p, 5]
-                a00 = m * p_C[p, 0, 0] + mls_dinv * sxx
-                a01 = m * p_C[p, 0, 1] + mls_dinv * sxy
-                a02 = m * p_C[p, 0, 2] + mls_dinv * sxz
-                a10 = m * p_C[p, 1, 0] + mls_dinv * sxy
-                a11 = m * p_C[p, 1, 1] + mls_dinv * syy
-                a12 = m * p_C[p, 1, 2] + mls_dinv * syz
-                a20 = m * p_C[p, 2, 0] + mls_dinv * sxz
-                a21 = m * p_C[p, 2, 1] + mls_dinv * syz
-                a22 = m * p_C[p, 2, 2] + mls_dinv * szz
-                q0 = m * p_v[p, 0] + a00 * ox + a01 * oy + a02 * oz
-                q1 = m * p_v[p, 1] + a10 * ox + a11 * oy + a12 * oz
-                q2 = m * p_v[p, 2] + a20 * ox + a21 * oy + a22 * oz
-                ax0, ax1, ax2 = h * a00, h * a10, h * a20
-                ay0, ay1, ay2 = h * a01, h * a11, h * a21
-                az0, az1, az2 = h * a02, h * a12, h * a22
-                for i in range(3):
-                    wi = wx[i]
-                    qi0, qi1, qi2 = q0 + i * ax0, q1 + i * ax1, q2 + i * ax2
-                    for j in range(3):
-                        wij = wi * wy[j]
-                        mij = wij * m
-                        Q0, Q1, Q2 = wij * (qi0 + j * ay0), wij * (qi1 + j * ay1), wij * (qi2 + j * ay2)
-                        R0, R1, R2 = wij * az0, wij * az1, wij * az2
-                        Rm = wij * z
-                        for k in range(3):
-                            wk = wz[k]
-                            kwk = k * wk
-                            r = s[lx + i, ly + j, lz + k]
-                            r[0] += mij * wk + Rm * kwk
-                            r[1] += Q0 * wk + R0 * kwk
-                            r[2] += Q1 * wk + R1 * kwk
-                            r[3] += Q2 * wk + R2 * kwk
+                _scatter_mls(p, bx, wx, by, wy, bz, wz, lx, ly, lz, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h,
+                             f_scale, mls_dinv, z, s)
             missed_by_block[b] = missed
             for i in range(W):
                 gx = n0 + i
@@ -277,6 +203,52 @@ def drifted(p_x, count, nb, block, slack, origin, inv_h, kind, lo):
                     out += 1
                     break
     return out
+
+@njit(cache=True, inline="always")
+def _scatter_mls(p, bx, wx, by, wy, bz, wz, lx, ly, lz, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, f_scale,
+                 mls_dinv, z, s):
+    """MLS P2G of particle p, force folded, into the scratch s whose first stencil node is (lx, ly, lz): the four
+    updates of a node made alike (the mass gets a term z k w_k, z = 0 at run time, so that fastmath cannot fold
+    it away), the form LLVM's SLP vectoriser packs into one 4-wide multiply-add."""
+    m = p_mass[p]
+    ox = bx * h + origin[0] - p_x[p, 0]
+    oy = by * h + origin[1] - p_x[p, 1]
+    oz = bz * h + origin[2] - p_x[p, 2]
+    nv = -p_vol[p] * f_scale
+    sxx, syy, szz = nv * p_stress[p, 0], nv * p_stress[p, 1], nv * p_stress[p, 2]
+    sxy, syz, sxz = nv * p_stress[p, 3], nv * p_stress[p, 4], nv * p_stress[p, 5]
+    a00 = m * p_C[p, 0, 0] + mls_dinv * sxx
+    a01 = m * p_C[p, 0, 1] + mls_dinv * sxy
+    a02 = m * p_C[p, 0, 2] + mls_dinv * sxz
+    a10 = m * p_C[p, 1, 0] + mls_dinv * sxy
+    a11 = m * p_C[p, 1, 1] + mls_dinv * syy
+    a12 = m * p_C[p, 1, 2] + mls_dinv * syz
+    a20 = m * p_C[p, 2, 0] + mls_dinv * sxz
+    a21 = m * p_C[p, 2, 1] + mls_dinv * syz
+    a22 = m * p_C[p, 2, 2] + mls_dinv * szz
+    q0 = m * p_v[p, 0] + a00 * ox + a01 * oy + a02 * oz
+    q1 = m * p_v[p, 1] + a10 * ox + a11 * oy + a12 * oz
+    q2 = m * p_v[p, 2] + a20 * ox + a21 * oy + a22 * oz
+    ax0, ax1, ax2 = h * a00, h * a10, h * a20
+    ay0, ay1, ay2 = h * a01, h * a11, h * a21
+    az0, az1, az2 = h * a02, h * a12, h * a22
+    for i in range(3):
+        wi = wx[i]
+        qi0, qi1, qi2 = q0 + i * ax0, q1 + i * ax1, q2 + i * ax2
+        for j in range(3):
+            wij = wi * wy[j]
+            mij = wij * m
+            Q0, Q1, Q2 = wij * (qi0 + j * ay0), wij * (qi1 + j * ay1), wij * (qi2 + j * ay2)
+            R0, R1, R2 = wij * az0, wij * az1, wij * az2
+            Rm = wij * z
+            for k in range(3):
+                wk = wz[k]
+                kwk = k * wk
+                r = s[lx + i, ly + j, lz + k]
+                r[0] += mij * wk + Rm * kwk
+                r[1] += Q0 * wk + R0 * kwk
+                r[2] += Q1 * wk + R1 * kwk
+                r[3] += Q2 * wk + R2 * kwk
 
 
 def best(fn, repeats):
