@@ -210,12 +210,14 @@ def run_case(case, out=None, overrides=(), progress: bool = True, resume=None, o
     made); an unphysical or stopped run returns a Run with a non-zero exit code."""
     from geompm.engine.first_step import (check_output_intervals, first_step_estimate, fixed_step_problem,
                                           stage_warnings, viscous_warning)
+    from geompm.engine.launch import check_single_process
     from geompm.engine.runner import Interrupted, Runner
     from geompm.engine.scheduler import Simulation
     from geompm.schema.load import apply_overrides, load_case, parse_case
     from geompm.setup.assemble import assemble
     from geompm.writers.series import SeriesWriter
 
+    check_single_process()
     sets = list(overrides)
     saved_end = saved_end_time(resume) if resume else None
     loaded = load_case(case, sets) if not isinstance(case, dict) else parse_case(apply_overrides(case, sets), ".")

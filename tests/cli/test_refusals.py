@@ -15,6 +15,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from geompm.cli import main
+from geompm.engine.launch import MPI_SIZE_VARIABLES, check_single_process
 from geompm.errors import CaseError
 from geompm.schema import parse_case
 
@@ -250,3 +251,31 @@ def test_hostile_set_values_give_exit_0_or_2(tmp_path, sets):
         if last.get(k) in ("NaN", "Infinity", "-Infinity", "1e999") and not any(
                 other in ("time", "grid", "gravity", "materials") for other in last):
             assert code == 2
+
+
+@pytest.mark.parametrize("name", MPI_SIZE_VARIABLES)
+def test_run_as_one_of_several_mpi_processes_is_refused(tmp_path, capsys, monkeypatch, name):
+    """`mpiexec -n 2 geompm run CASE` starts two copies, each of which would run the whole case into the same run
+    folder: refused with exit code 2 before any folder is made, naming the launcher's variable.  MPICH's
+    launcher sets PMI_SIZE (checked with mpiexec of the mpich 5.0.2 wheel), Open MPI OMPI_COMM_WORLD_SIZE,
+    MVAPICH MV2_COMM_WORLD_SIZE."""
+    monkeypatch.setenv(name, "2")
+    f = tmp_path / "case.json"
+    f.write_text(json.dumps(tiny_case()))
+    run = tmp_path / "run"
+    assert main(["run", str(f), "--out", str(run), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "error: refused:" in err
+    assert f"{name}: geompm was started as one of 2 MPI processes ({name}=2)" in err
+    assert not run.exists()
+
+
+def test_a_single_mpi_process_is_not_refused():
+    """A launcher's single process (N = 1), an empty or a non-numeric variable run as usual; 3 processes are
+    refused whichever launcher set the count."""
+    for env in ({}, {"PMI_SIZE": "1"}, {"OMPI_COMM_WORLD_SIZE": ""}, {"MV2_COMM_WORLD_SIZE": "x"}):
+        check_single_process(env)
+    for name in MPI_SIZE_VARIABLES:
+        with pytest.raises(CaseError) as exc:
+            check_single_process({name: "3"})
+        assert exc.value.problems[0][0] == name and "one of 3 MPI processes" in exc.value.problems[0][1]
