@@ -1,6 +1,6 @@
 """Cost per particle-step across scene sizes in one process, interleaved: issue 38's size figure on a noisy machine.
 
-    python benchmarks/size_spread.py [--scene scaling] [--rounds 10] [--budget 4e6]
+    python benchmarks/size_spread.py [--scene scaling] [--rounds 10] [--budget 4e6] [--only 25k 400k]
 
 Builds every variant of a scene of benchmarks/scenes.json (default ``scaling``: dp3d at 26k, 103k, 410k and
 1.59M particles) in one process, then steps them through ``Runner.advance`` (what ``geompm bench`` times per
@@ -35,11 +35,14 @@ def main() -> int:
     ap.add_argument("--scene", default="scaling")
     ap.add_argument("--rounds", type=int, default=10)
     ap.add_argument("--budget", type=float, default=4e6, help="particle-steps per visit")
+    ap.add_argument("--only", nargs="+", default=None, metavar="VARIANT", help="these variants only")
     a = ap.parse_args()
     bench = ROOT / "benchmarks"
     spec = json.loads((bench / "scenes.json").read_text())[a.scene]
     runners, names = [], []
     for name, sets in spec["variants"].items():
+        if a.only and name not in a.only:
+            continue
         sim = Simulation(scene_from_file(str(bench / spec["case"]), ["outputs=[]", "time.end=1e9", *sets]))
         runner = Runner(sim, None, [], progress=False)
         runner.start()
