@@ -18,6 +18,7 @@ force through grad w ~ D^-1 w (x_i - x_p) and L = C.
 
 import numpy as np
 from numba import njit, prange
+from numba.extending import overload
 
 from geompm.kernels.chunks import CHUNK_BODY, FAR, g2p_chunks, sum_interleaved, zero_rows
 from geompm.kernels.stencil import APIC, FLIP, MLS, axis_stencil, mls_derivatives
@@ -163,7 +164,6 @@ def g2p_3d(tag, scheme, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_o
     sx = nloc[1] * nloc[2]
     nchunks = g2p_chunks(n)
     mode = len(scheme) - 1  # compile-time (stencil.scheme_tag)
-    flip = mode == FLIP
     mls = mode == MLS
     for c in prange(nchunks):
         L = np.zeros((3, 3))
@@ -175,13 +175,10 @@ def g2p_3d(tag, scheme, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_o
             by, wy, dy = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
             bz, wz, dz = axis_stencil((p_x[p, 2] - origin[2]) * inv_h, kind, inv_h)
             base = (bx - lo[0]) * sx + (by - lo[1]) * sy + (bz - lo[2])
-            if mls:
-                (v0, v1, v2, b00, b01, b02, b10, b11, b12, b20, b21, b22) = _gather_affine(
-                    S, wx, wy, wz, base, sx, sy, g_vel)
-            else:
-                (v0, v1, v2, l00, l01, l02, l10, l11, l12, l20, l21, l22,
-                 b00, b01, b02, b10, b11, b12, b20, b21, b22) = _gather_full(
-                    S, wx, dx, wy, dy, wz, dz, base, sx, sy, g_vel)
+            (v0, v1, v2, l00, l01, l02, l10, l11, l12, l20, l21, l22,
+             b00, b01, b02, b10, b11, b12, b20, b21, b22, d0, d1, d2) = _gather_scheme(
+                scheme, S, wx, dx, wy, dy, wz, dz, base, sx, sy, g_vel, g_vel_old)
+            if not mls:
                 L[0, 0], L[0, 1], L[0, 2] = l00, l01, l02
                 L[1, 0], L[1, 1], L[1, 2] = l10, l11, l12
                 L[2, 0], L[2, 1], L[2, 2] = l20, l21, l22
@@ -195,9 +192,6 @@ def g2p_3d(tag, scheme, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_o
                 for a in range(3):
                     for b in range(3):
                         L[a, b] = (vp[a] * o[b] + h * B[a, b]) * apic_dinv
-            d0 = d1 = d2 = 0.0
-            if flip:  # a pass of its own: in the loop above the branch cost 16 % of G2P
-                d0, d1, d2 = _flip_increment(S, wx, wy, wz, base, sx, sy, g_vel, g_vel_old)
             _finish(p, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, origin, h, bx, by, bz,
                     v0, v1, v2, d0, d1, d2, L, B, dt, S, mode, flip_ratio, apic_dinv, set_velocity, move,
                     do_gradient)
@@ -208,6 +202,37 @@ def g2p_3d(tag, scheme, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_o
         if move:
             p_box[c, 0, 0], p_box[c, 0, 1], p_box[c, 0, 2] = lo0, lo1, lo2
             p_box[c, 1, 0], p_box[c, 1, 1], p_box[c, 1, 2] = hi0, hi1, hi2
+
+
+def _gather_scheme(scheme, S, wx, dx, wy, dy, wz, dz, base, sx, sy, g_vel, g_vel_old):
+    """One particle's gathered sums for its transfer scheme: (v (3), L (9, zero for MLS), B (9), FLIP increment
+    (3, zero but for FLIP)).  A numba-only function (its overload below): the scheme's tag picks the sums while
+    numba types the call, so only that scheme's gather reaches G2P's code.  With every scheme's gather behind
+    a run-time test, numba's parallel-loop passes (quadratic in the loop body's blocks) took 9-13 s of a cold
+    start over the 3D G2P; with the scheme's own, about half (docs/performance.md)."""
+    raise TypeError("_gather_scheme is compiled by numba only (transfer3d.g2p_3d)")
+
+
+@overload(_gather_scheme, inline="always")
+def _gather_scheme_numba(scheme, S, wx, dx, wy, dy, wz, dz, base, sx, sy, g_vel, g_vel_old):
+    mode = len(scheme.types) - 1  # the tag's length (stencil.scheme_tag)
+    if mode == MLS:
+        def affine(scheme, S, wx, dx, wy, dy, wz, dz, base, sx, sy, g_vel, g_vel_old):
+            (v0, v1, v2, b00, b01, b02, b10, b11, b12, b20, b21, b22) = _gather_affine(
+                S, wx, wy, wz, base, sx, sy, g_vel)
+            return (v0, v1, v2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+                    b00, b01, b02, b10, b11, b12, b20, b21, b22, 0.0, 0.0, 0.0)
+        return affine
+    if mode == FLIP:
+        def flip(scheme, S, wx, dx, wy, dy, wz, dz, base, sx, sy, g_vel, g_vel_old):
+            # the FLIP increment a pass of its own: in the sums' loop the branch cost 16 % of G2P
+            return (_gather_full(S, wx, dx, wy, dy, wz, dz, base, sx, sy, g_vel)
+                    + _flip_increment(S, wx, wy, wz, base, sx, sy, g_vel, g_vel_old))
+        return flip
+
+    def full(scheme, S, wx, dx, wy, dy, wz, dz, base, sx, sy, g_vel, g_vel_old):
+        return _gather_full(S, wx, dx, wy, dy, wz, dz, base, sx, sy, g_vel) + (0.0, 0.0, 0.0)
+    return full
 
 
 @njit(cache=True, inline="always")
