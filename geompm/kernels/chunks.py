@@ -9,12 +9,13 @@ from numba import njit, prange
 
 #: the most particle chunks of a G2P pass: enough to balance any core count (kernels/transfer3d.py)
 G2P_CHUNKS = 64 * 8
-#: numba options of a parallel loop's body written as a function of its own (the transfer kernels' chunks).
+#: numba options of a parallel loop's body written as a function of its own (the P2G chunks, the 2D G2P's).
 #: A ``prange`` body is typed twice and goes through numba's parfor passes, whose copy propagation is
-#: quadratic in the body's basic blocks: with the 3D G2P's body inline, these took 9-13 s of a 28-33 s
-#: cold first step.  A function of its own skips them; ``forceinline`` has LLVM inline it back into the
-#: loop's gufunc, where the gufunc's no-alias arguments apply (without it, a plain call measured G2P
-#: 1.4x and P2G 1.1x slower); ``error_model="numpy"`` is the gufunc's own model (docs/performance.md).
+#: quadratic in the body's basic blocks; a function of its own skips them (the first P2G compile: 3.8-5.0
+#: against 5.1-7.1 s in 3D).  ``forceinline`` has LLVM inline it back into the loop's gufunc (a plain call
+#: ran the 3D P2G 1.1-1.25x slower); ``error_model="numpy"`` is the gufunc's own model.  The 3D G2P is not
+#: written so: split, it ran 1.4x slower whatever the options; it compiles only its scheme's gather instead
+#: (transfer3d._gather_scheme; docs/performance.md).
 CHUNK_BODY = {"fastmath": True, "error_model": "numpy", "forceinline": True, "cache": True}
 #: the sentinel of an empty chunk's box [m]: finite, because the transfer kernels' fastmath assumes no
 #: infinities
