@@ -91,6 +91,15 @@ def colour_lists(count, nb):
     return blocks[:k], cstart
 
 
+@njit(cache=True, inline="always")
+def _block_origin(b, nb, block, slack):
+    """Window-relative first node of block b's scratch (its first base node less ``slack`` along each axis)."""
+    b2 = b % nb[2]
+    b1 = (b // nb[2]) % nb[1]
+    b0 = b // (nb[1] * nb[2])
+    return b0 * block - slack, b1 * block - slack, b2 * block - slack
+
+
 @njit(parallel=True, fastmath=True, cache=True)
 def p2g_coloured(order, count, blocks, cstart, nb, block, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h,
                  kind, lo, nloc, f_scale, mls_dinv, g, zero):
@@ -107,10 +116,7 @@ def p2g_coloured(order, count, blocks, cstart, nb, block, p_x, p_v, p_C, p_mass,
     for colour in range(8):
         for t in prange(cstart[colour + 1] - cstart[colour]):
             b = blocks[cstart[colour] + t]
-            b2 = b % nb[2]
-            b1 = (b // nb[2]) % nb[1]
-            b0 = b // (nb[1] * nb[2])
-            n0, n1, n2 = b0 * block, b1 * block, b2 * block  # the block's first base node, window-relative
+            n0, n1, n2 = _block_origin(b, nb, block, 0)  # the block's first base node, window-relative
             s = np.zeros((W, W, W, 4))
             for q in range(count[b], count[b + 1]):
                 p = order[q]
@@ -154,10 +160,7 @@ def p2g_coloured_slack(count, blocks, cstart, nb, block, slack, p_x, p_v, p_C, p
     for colour in range(8):
         for t in prange(cstart[colour + 1] - cstart[colour]):
             b = blocks[cstart[colour] + t]
-            b2 = b % nb[2]
-            b1 = (b // nb[2]) % nb[1]
-            b0 = b // (nb[1] * nb[2])
-            n0, n1, n2 = b0 * block - slack, b1 * block - slack, b2 * block - slack
+            n0, n1, n2 = _block_origin(b, nb, block, slack)
             s = np.zeros((W, W, W, 4))
             missed = 0
             for p in range(count[b], count[b + 1]):
