@@ -23,25 +23,58 @@ from __future__ import annotations
 
 from typing import ClassVar
 
+from geompm.parallel.whole import WHOLE
+
 
 class Backend:
     name: ClassVar[str] = ""
+    #: the run's decomposition over processes (parallel/whole.py, parallel/slabs.py): the backend asks it
+    #: which nodes a stage's reduction counts and stacks every rank's accumulator rows through it
+    domain = WHOLE
     #: largest |L_ii| [1/s] found by the last update_stress; None when unknown (before the first step,
     #: after a restore): the time step then takes it from the particles
     max_rate: float | None = None
 
     def stable_dt(self) -> float:
         """The next step [s] (backend/timestep.py) from the particles' speeds, densities and the last
-        stress update's largest |L_ii|; a device backend overrides it with its own reductions."""
-        from geompm.backend.timestep import stable_dt
+        stress update's largest |L_ii|."""
+        from geompm.backend.timestep import step_limit
 
-        return stable_dt(self.scene, self.host_state(), self.max_rate)
+        if self.scene.dt_fixed is not None:
+            return self.scene.dt_fixed
+        c, v, rate = self.dt_parts()
+        return step_limit(self.scene, c + v, rate)
+
+    def dt_parts(self) -> tuple[float, float, float]:
+        """(largest wave speed c_p [m/s], largest |v_p| [m/s], largest |L_ii| [1/s]) over this process's
+        particles: the step's inputs, which ranks reduce before the step is taken (parallel/slabs.py); a
+        device backend overrides it with its own reductions."""
+        from geompm.backend.timestep import wave_speed
+        from geompm.kernels.reduce import max_rate, max_speed
+
+        st = self.host_state()
+        rate = self.max_rate if self.max_rate is not None else (max_rate(st.p_L) if st.n else 0.0)
+        return wave_speed(self.scene, st), (max_speed(st.p_v) if st.n else 0.0), rate
 
     def host_state(self):
         """The particle arrays as host (numpy) arrays: read by health checks, writers and checkpoints."""
         raise NotImplementedError
 
     def window(self):
+        """The grid window over every particle's stencil (mpm/grid.py); SimulationError naming a particle
+        that left the grid."""
+        from geompm.mpm.grid import window_extent
+
+        return self.window_at(*window_extent(self.scene.grid, self.particle_cells(),
+                                             lambda: self.host_state().p_x))
+
+    def particle_cells(self):
+        """Per axis the lowest and highest cell of the particles, (2, d) int64 (kernels/reduce.cell_bounds),
+        or None without particles."""
+        raise NotImplementedError
+
+    def window_at(self, lo, nloc):
+        """The window of ``nloc`` nodes per axis from global node ``lo`` (a rank's, parallel/slabs.py)."""
         raise NotImplementedError
 
     def p2g(self, view, f_scale: float) -> None:

@@ -28,6 +28,7 @@ from geompm.backend.cpu_loops import block_loops
 from geompm.backend.cpu_stage_loops import merge_loop, node_loop, particle_loop
 from geompm.backend.twophase_cpu import SaturatedCpu
 from geompm.kernels.phreatic import total_stress
+from geompm.kernels.reduce import cell_bounds
 
 #: the transfer kernels of each dimension, compiled with LLVM's SLP vectoriser (kernels/vectorised.py)
 TRANSFERS = {2: (Vectorised(p2g_2d), Vectorised(g2p_2d)), 3: (Vectorised(p2g_3d), Vectorised(g2p_3d))}
@@ -72,6 +73,13 @@ class CpuBackend(Backend):
 
     def window(self):
         return self.buffers.window(self.state.p_x)
+
+    def particle_cells(self):
+        g = self.scene.grid
+        return cell_bounds(self.state.p_x, g.origin, 1.0 / g.h) if self.state.n else None
+
+    def window_at(self, lo, nloc):
+        return self.buffers.view(lo, nloc)
 
     def p2g(self, view, f_scale: float) -> None:
         """P2G; the force enters scaled by f_scale (split: 1 or 0; folded: dt or 0)."""
@@ -178,9 +186,11 @@ class CpuBackend(Backend):
         out = plan["node_out"]
         out.fill(0.0)
         g = self.scene.grid
-        loop(prm, aux, dt, g.origin, g.h, view.lo, view.nloc, first, last, view.g_mass, view.g_vel, v_old, f,
-             plan["node_work"], out)
-        stage.grid_reduced(out, dt, time, remap)
+        for f_box, l_box, counted in self.domain.node_parts(first, last):
+            into = out if counted else plan.setdefault("node_spill", np.zeros_like(out))
+            loop(prm, aux, dt, g.origin, g.h, view.lo, view.nloc, f_box, l_box, view.g_mass, view.g_vel, v_old,
+                 f, plan["node_work"], into)
+        stage.grid_reduced(self.domain.comm.rows(out), dt, time, remap)
 
     def particle_stages(self, stages, dt: float, time: float) -> None:
         """Every particle stage in order.  After a G2P that moved the particles, a stage whose
@@ -196,7 +206,7 @@ class CpuBackend(Backend):
                 if reach is None:
                     out = self._plan_of(stage)["particle_out"]
                     out.fill(0.0)
-                    stage.particle_reduced(out, dt, time)
+                    stage.particle_reduced(self.domain.comm.rows(out), dt, time)
                     continue
                 box = reach if np.isfinite(reach[0]).all() and np.isfinite(reach[1]).all() else None
             self._particle_pass(stage, args, dt, time)
@@ -216,5 +226,5 @@ class CpuBackend(Backend):
             s, e = st.blocks[k]
             if e > s:
                 loop(prm, aux, dt, k, s, e, st.p_x, st.p_x0, st.p_v, st.p_C, st.p_mass, st.p_stress, work, out)
-        stage.particle_reduced(out, dt, time)
+        stage.particle_reduced(self.domain.comm.rows(out), dt, time)
 

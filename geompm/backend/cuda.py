@@ -34,7 +34,6 @@ import numpy as np
 from numba import cuda
 
 from geompm.mpm.grid import GridView, window_extent
-from geompm.backend.timestep import step_limit
 from geompm.kernels.reduce import cells_of_bounds, max_rate
 from geompm.kernels.shape import support
 from geompm.kernels.stencil import SCHEMES
@@ -129,6 +128,11 @@ class CudaBackend(Backend):
 
     # -- the step ---------------------------------------------------------------------------------------
     def window(self):
+        spec = self.scene.grid
+        lo, nloc = window_extent(spec, self._cells(), lambda: self.host_state().p_x)
+        return self.buffers.view(lo, nloc)
+
+    def _cells(self):
         dev, st, spec = self._device(), self.state, self.scene.grid
         d = spec.dim
         out = np.empty((3, d))
@@ -137,8 +141,12 @@ class CudaBackend(Backend):
         if st.n:
             K.bounds[K.blocks(st.n), K.THREADS](dev["p_x"], red)
         r = red.copy_to_host()
-        b = cells_of_bounds(r[0], r[1], r[2], spec.origin, 1.0 / spec.h)
-        lo, nloc = window_extent(spec, b, lambda: self.host_state().p_x)
+        return cells_of_bounds(r[0], r[1], r[2], spec.origin, 1.0 / spec.h)
+
+    def particle_cells(self):
+        return self._cells() if self.state.n else None
+
+    def window_at(self, lo, nloc):
         return self.buffers.view(lo, nloc)
 
     def p2g(self, view, f_scale: float) -> None:
@@ -187,10 +195,8 @@ class CudaBackend(Backend):
                                                  sv, rate)
         self.max_rate = float(rate.copy_to_host()[0])
 
-    def stable_dt(self) -> float:
+    def dt_parts(self):
         sc, st = self.scene, self.state
-        if sc.dt_fixed is not None:
-            return sc.dt_fixed
         dev = self._device()
         nb = len(st.blocks)
         red = cuda.to_device(np.full(1 + 2 * nb, -np.inf))
@@ -204,10 +210,9 @@ class CudaBackend(Backend):
                 wave = type(mat).particle_wave_speed
                 laws[k] = max(wave(mat.prm, -r[1 + 2 * k]), wave(mat.prm, r[2 + 2 * k]))
         c = max(laws, default=0.0) if self.saturated is None else self.saturated.wave_speed(laws)
-        speed = c + (float(r[0]) if st.n else 0.0)
         if self.max_rate is None:  # before the first step, after a restore: from the particles
             self.max_rate = max_rate(self.host_state().p_L) if st.n else 0.0
-        return step_limit(sc, speed, self.max_rate)
+        return c, (float(r[0]) if st.n else 0.0), self.max_rate
 
     def sort_particles(self) -> None:
         """The counting sort on the device (backend/cuda_sort.py); only the permutation comes to the host,
@@ -251,18 +256,25 @@ class CudaBackend(Backend):
         first, last = (np.full(d, -FAR_NODE), np.full(d, FAR_NODE)) if box is None else box
         b0 = np.minimum(np.maximum(np.asarray(first) - view.lo, 0), view.nloc)
         bn = np.maximum(np.minimum(np.asarray(last) - view.lo + 1, view.nloc) - b0, 0)
-        total = int(np.prod(bn))
         slots = max(stage.node_reduction, 1)
-        out = cuda.to_device(np.zeros(slots))
-        if total:
-            kern = cuda_loops.node_kernel(cls.node_rule, cls.node_scratch, slots, cls.node_maxima)
-            v_old = view.g_vel_old if view.g_vel_old is not None else view.g_vel
-            f = view.g_force if view.g_force is not None else view.g_vel
+        out, spill = cuda.to_device(np.zeros(slots)), None
+        kern = cuda_loops.node_kernel(cls.node_rule, cls.node_scratch, slots, cls.node_maxima)
+        v_old = view.g_vel_old if view.g_vel_old is not None else view.g_vel
+        f = view.g_force if view.g_force is not None else view.g_vel
+        for f_box, l_box, counted in self.domain.node_parts(np.asarray(first), np.asarray(last)):
+            b0 = np.minimum(np.maximum(f_box - view.lo, 0), view.nloc)
+            bn = np.maximum(np.minimum(l_box - view.lo + 1, view.nloc) - b0, 0)
+            total = int(np.prod(bn))
+            if not total:
+                continue
+            if not counted and spill is None:
+                spill = cuda.to_device(np.zeros(slots))
             kern[K.blocks(total), K.THREADS](
                 cuda.to_device(np.ascontiguousarray(prm)), self._table(stage, "grid", aux), dt,
                 self._origin, self.scene.grid.h, lo, nloc, cuda.to_device(b0.astype(np.int64)),
-                cuda.to_device(bn.astype(np.int64)), total, view.g_mass, view.g_vel, v_old, f, out)
-        stage.grid_reduced(out.copy_to_host().reshape(1, slots), dt, time, remap)
+                cuda.to_device(bn.astype(np.int64)), total, view.g_mass, view.g_vel, v_old, f,
+                out if counted else spill)
+        stage.grid_reduced(self.domain.comm.rows(out.copy_to_host().reshape(1, slots)), dt, time, remap)
 
     def particle_stage(self, stage, dt: float, time: float) -> None:
         args = stage.particle_args(dt, time)
@@ -279,5 +291,5 @@ class CudaBackend(Backend):
             if e > s:
                 kern[K.blocks(e - s), K.THREADS](prm, aux, dt, k, s, e, dev["p_x"], dev["p_x0"], dev["p_v"],
                                                  dev["p_C"], dev["p_mass"], dev["p_stress"], out)
-        stage.particle_reduced(out.copy_to_host().reshape(1, slots), dt, time)
+        stage.particle_reduced(self.domain.comm.rows(out.copy_to_host().reshape(1, slots)), dt, time)
 

@@ -77,6 +77,9 @@ class Periodic(GridStage, ParticleStage):
         self.prm = pack_in_layout(PERIODIC, {"axis": axis, "ncells": ncells, "lo_x": float(scene.grid.origin[axis]),
                                              "period": ncells * scene.grid.h}, f"stage '{self.label}'")
 
+    def periodic_axes(self):
+        return ("xyz".index(self.params.axis),)
+
     def grid_args(self, dt, time, remap):
         return self.prm, NO_AUX
 

@@ -164,6 +164,8 @@ class SurfaceLoad(GridStage):
     supplies_energy = True
     #: the load is added to the nodal force that local damping reads, so the force is kept apart
     needs_split_force = True
+    #: the loaded particles' mass and the load's lattice are found on the host from this rank's particles
+    splits_over_ranks = False
     node_rule = surface_load_rule
     node_reduction = 4
 

@@ -50,6 +50,11 @@ class Stage(Plugin):
     records_force: ClassVar[bool] = False
     #: it is the ground of a DEM (``ground_dem()``): hazard maps are drawn on that raster
     provides_ground: ClassVar[bool] = False
+    #: its rules and reductions give the same answers when the particles are shared between MPI ranks
+    #: (parallel/slabs.py): every reduction it makes goes through its pass's accumulator rows, which the
+    #: ranks stack; a stage that sums particles itself on the host (a surface load's loaded mass) says False
+    #: and a run on several ranks refuses it
+    splits_over_ranks: ClassVar[bool] = True
 
     def __init__(self, params, label: str, json_path: str = ""):
         self.params = params
@@ -114,6 +119,11 @@ class Stage(Plugin):
         stage. Drained: water flows freely across and the particles at it have p = 0; impermeable: no
         relative flow across it (docs/pore-water.md)."""
         return None
+
+    def periodic_axes(self) -> tuple[int, ...]:
+        """The axes along which the stage makes the grid periodic (a slab decomposition cannot cut along
+        them, parallel/partition.py); () for every other stage."""
+        return ()
 
     def surface_shift(self, time: float):
         """Displacement [m] of the surface at ``time`` (a prescribed velocity), or None if it does not move."""

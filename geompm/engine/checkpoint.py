@@ -29,7 +29,7 @@ def save(run_dir: Path, sim, runner_meta: dict, writers, keep: int = 2) -> Path:
     st = sim.state
     meta = {
         "geompm": __version__, "time": sim.time, "step": sim.step_count, "dt": sim.dt,
-        "nchunks": sim.buffers.nchunks, "blocks": [list(b) for b in st.blocks],
+        "nchunks": sim.buffers.nchunks, "ranks": sim.domain.size, "blocks": [list(b) for b in st.blocks],
         "runner": runner_meta,
         "writers": [w.state() for w in writers],
         "stages": {s.label: s.state_dict() for s in sim.scene.stages},

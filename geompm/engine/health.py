@@ -31,6 +31,7 @@ from numba import njit, prange
 from geompm.errors import SimulationError
 from geompm.backend.timestep import below_dt_min, viscous_limit, wave_speed
 from geompm.kernels.phreatic import pore_work
+from geompm.parallel.comm import SERIAL
 
 
 @njit(parallel=True, cache=True)
@@ -103,59 +104,83 @@ def describe_particle(sim, p) -> str:
             f"{sim.step_count}, t = {sim.time:.6g} s")
 
 
+def first_message(comm, message):
+    """The first rank's message, on every rank, where a check failed on some ranks (``message``: this
+    rank's, or None)."""
+    return next(m for m in comm.gather(message) if m)
+
+
+def fastest(comm, sim):
+    """(index of this rank's fastest particle or -1, whether it is the fastest of the run)."""
+    st = sim.state
+    v2 = (st.p_v ** 2).sum(axis=1)
+    p = int(np.argmax(v2)) if st.n else -1
+    best = float(v2[p]) if st.n else -1.0
+    return p, best >= float(comm.max([best])[0]) and p >= 0
+
+
 class HealthCheck:
-    def __init__(self, scene):
+    def __init__(self, scene, comm=SERIAL):
         st = scene.state
         self.scene = scene
-        mass = float(st.p_mass.sum())
+        self.comm = comm
+        mass = float(comm.sum([st.p_mass.sum()])[0])
         g = float(np.linalg.norm(scene.gravity))
         diag = float(np.linalg.norm(scene.grid.upper - scene.grid.origin))
         v_obs = max((s.supplied_speed() for s in scene.stages if s.supplies_energy), default=0.0)
         _, ek0, _ = health_sums(st.p_x, st.p_x0, st.p_v, st.p_stress, st.p_mass, scene.gravity)
-        self.budget0 = ek0 + _strain_energy(scene) + 2.0 * mass * v_obs ** 2
+        ek0, strain = (float(x) for x in comm.sum([ek0, _strain_energy(scene)]))
+        self.budget0 = ek0 + strain + 2.0 * mass * v_obs ** 2
         self.floor = 1e-6 * mass * max(g, 1.0) * diag
         self.kinetic_energy = ek0
         self.released = 0.0  # energy gravity has released so far [J] (health_sums)
 
     def after_step(self, sim) -> None:
         st, sc = sim.state, self.scene
-        bad, ek, wg = health_sums(st.p_x, st.p_x0, st.p_v, st.p_stress, st.p_mass, sc.gravity)
+        comm = self.comm
+        mine, ek, wg = health_sums(st.p_x, st.p_x0, st.p_v, st.p_stress, st.p_mass, sc.gravity)
+        water = getattr(sim, "water", None)
+        work = 0.0 if water is None else pore_work(water.pressure(st.p_x, st.p_material, sim.time), st.p_vol,
+                                                   st.p_vol0, st.p_x, st.p_x0, water.normal.astype(st.p_x.dtype),
+                                                   water.gradient)
+        bad, ek, wg, work = comm.sum([mine, ek, wg, work])
+        bad, ek, wg = int(round(bad)), float(ek), float(wg)
         self.kinetic_energy, self.released = ek, wg
         if bad:
-            p = _first_nonfinite(st)
-            field = next(name for name, arr in (("position", st.p_x), ("velocity", st.p_v), ("stress", st.p_stress))
-                         if not np.isfinite(arr[p]).all())
-            raise SimulationError(
-                f"NaN or Inf in the {field} of {describe_particle(sim, p)} ({bad} particles affected). Likely cause: "
-                f"{self._likely_cause(sim)}")
+            message = None
+            if mine:
+                p = _first_nonfinite(st)
+                field = next(name for name, arr in (("position", st.p_x), ("velocity", st.p_v),
+                                                    ("stress", st.p_stress)) if not np.isfinite(arr[p]).all())
+                message = (f"NaN or Inf in the {field} of {describe_particle(sim, p)} ({bad} particles affected). "
+                           f"Likely cause: {self._likely_cause(sim)}")
+            raise SimulationError(first_message(comm, message))
         allowed = self.budget0 + max(wg, 0.0) + sum(s.supplied_work() for s in sc.stages if s.supplies_energy)
-        water = getattr(sim, "water", None)
-        if water is not None:
-            allowed += pore_work(water.pressure(st.p_x, st.p_material, sim.time), st.p_vol, st.p_vol0, st.p_x,
-                                 st.p_x0, water.normal.astype(st.p_x.dtype), water.gradient)
+        allowed += float(work) if water is not None else 0.0
         if ek > 2.0 * allowed + self.floor:
-            p = int(np.argmax((st.p_v ** 2).sum(axis=1)))
-            raise SimulationError(
+            p, top = fastest(comm, sim)
+            raise SimulationError(first_message(comm, None if not top else
                 f"kinetic energy {ek:.4g} J exceeds what gravity, the initial stress, moving obstacles, loads and "
                 f"a water table can "
                 f"supply ({allowed:.4g} J) at step {sim.step_count}, t = {sim.time:.6g} s; fastest: "
                 f"{describe_particle(sim, p)}, |v| = {np.linalg.norm(st.p_v[p]):.4g} m/s. Likely cause: "
-                f"{self._likely_cause(sim)}")
+                f"{self._likely_cause(sim)}"))
 
     def before_step(self, sim, dt) -> None:
         sc = self.scene
         if not below_dt_min(sc, dt):
             return
         st = sim.state
-        p = int(np.argmax((st.p_v ** 2).sum(axis=1)))
+        p, top = fastest(self.comm, sim)
         if viscous_limit(sc) <= dt * (1 + 1e-9):
             k = int(np.argmax([m.kinematic_viscosity() for m in sc.materials]))
             cause = (f"the viscous limit h^2 / (2 d nu) with nu = {sc.nu_max:.3g} m2/s from material "
                      f"'{sc.material_names[k]}' (for 'cross' its mu_0) makes the step tiny; raise grid.cell_size "
                      f"or lower the viscosity (mu_0)")
         else:
-            cause = (f"particle speeds grew to {np.linalg.norm(st.p_v[p]):.3g} m/s ({describe_particle(sim, p)}); "
-                     f"{self._likely_cause(sim)}")
+            cause = first_message(self.comm, None if not top else
+                                  f"particle speeds grew to {np.linalg.norm(st.p_v[p]):.3g} m/s "
+                                  f"({describe_particle(sim, p)}); {self._likely_cause(sim)}")
         raise SimulationError(f"dt fell to {dt:.3g} s, below time.dt_min = {sc.dt_min:g} s, at step "
                               f"{sim.step_count}, t = {sim.time:.6g} s, because {cause}")
 
@@ -174,19 +199,21 @@ class HealthCheck:
 def check_domain(sim, delete: bool) -> int:
     """Particles more than one cell outside the grid (where their stencil leaves it): delete them and
     return how many, or stop the run naming the first one."""
-    sc = sim.scene
+    sc, comm = sim.scene, sim.domain.comm
     h = sc.grid.h
     mask = outside_grid(sim.state.p_x, sc.grid.origin - h, sc.grid.upper + h)
-    k = int(mask.sum())
+    mine = int(mask.sum())
+    k = int(round(float(comm.sum([mine])[0])))
     if not k:
         return 0
     if delete:
-        sim.state.remove(mask)
+        if mine:
+            sim.state.remove(mask)
         sim.backend.max_rate = None  # the deleted particles' rate no longer applies
         return k
     p = int(np.argmax(mask))
-    raise SimulationError(
+    raise SimulationError(first_message(comm, None if not mine else
         f"{describe_particle(sim, p)} left the grid at x = {np.array2string(sim.state.p_x[p], precision=4)} "
         f"m ({k} particles outside [{np.array2string(sc.grid.origin, precision=4)}, "
         f"{np.array2string(sc.grid.upper, precision=4)}] m). Enlarge grid.extent, add wall boundaries, or set "
-        f"run.on_leave_domain to \"delete\"")
+        f"run.on_leave_domain to \"delete\""))

@@ -25,6 +25,7 @@ from pathlib import Path
 from geompm.errors import CaseError, SimulationError
 from geompm.files.atomic import atomic_write_json
 from geompm.files.ownership import create_folder, mark_folder, marked_kind, owned_kind, remove_tree
+from geompm.parallel.whole import WHOLE
 from geompm.version import __version__
 
 log = logging.getLogger("geompm")
@@ -149,24 +150,32 @@ def hot_spot(stage) -> dict:
 
 
 def write_status(run_dir: Path, scene, runner, summary, finished: bool, reason: str = "") -> dict:
+    """status.json, written by rank 0 from every rank's particles (a collective call); the status on
+    every rank."""
     import numba
 
     from geompm.mpm.memory import peak_rss
 
     sim = runner.sim
+    comm = sim.domain.comm
+    n = sim.count()
+    front = float(comm.max([sim.state.p_x[:, 0].max() if sim.state.n else -float("inf")])[0])
+    rss = [int(x) for x in comm.gather(peak_rss())]
     status = {
         "case": scene.name, "finished": finished, "reason": reason, "time": sim.time, "end_time": scene.end_time,
-        "steps": sim.step_count, "particles": sim.state.n, "deleted_particles": runner.deleted,
+        "steps": sim.step_count, "particles": n, "deleted_particles": runner.deleted,
         "cells": int(scene.grid.ncells.prod()), "cell_size": scene.grid.h, "threads": numba.get_num_threads(),
         "wall_seconds": runner.wall_before + (summary.wall_seconds if summary else 0.0),
         "particle_steps_per_second": summary.particle_steps_per_second if summary else None,
-        "peak_rss_bytes": peak_rss(),
-        "front_x": float(sim.state.p_x[:, 0].max()) if sim.state.n else None,
+        "peak_rss_bytes": rss[0] if len(rss) == 1 else sum(rss),
+        "front_x": front if n else None,
         "obstacles": {o.label: {"peak_force": pk[0], "peak_time": pk[1], **hot_spot(o)}
                       for o in scene.stages if o.records_force and (pk := o.peak_force()) is not None},
+        **({"mpi": {**sim.domain.report(), "peak_rss_bytes_per_rank": rss}} if comm.size > 1 else {}),
         "geompm": __version__,
     }
-    atomic_write_json(run_dir / "status.json", status)
+    if comm.is_root:
+        atomic_write_json(run_dir / "status.json", status)
     return status
 
 
@@ -203,21 +212,56 @@ def declared_outputs(run_dir: Path, writers) -> dict[str, list[Path]]:
     return {w.name: [p for pattern in w.files for p in sorted(run_dir.glob(pattern))] for w in writers}
 
 
+def on_root(comm, make):
+    """``make()`` on rank 0, its result (or its CaseError) on every rank."""
+    result = error = None
+    if comm.is_root:
+        try:
+            result = make()
+        except CaseError as exc:
+            error = exc
+    result, problems = comm.bcast((result, None if error is None else error.problems))
+    if error is not None:
+        raise error
+    if problems is not None:
+        raise CaseError(problems)
+    return result
+
+
+def run_on_every_rank(runner, domain, run_dir):
+    """``runner.run()``; on several ranks, an error that is not the run's own (a bug, a full disk) on one
+    rank stops them all (MPI_Abort), since the others would wait for it in their next exchange."""
+    from geompm.engine.runner import Interrupted
+
+    try:
+        return runner.run()
+    except (SimulationError, Interrupted):
+        raise
+    except Exception:
+        if domain.size > 1:
+            log.exception(f"error on MPI rank {domain.rank}; stopping every rank (the checkpoints written so "
+                          f"far are kept in {run_dir})")
+            domain.comm.abort(1)
+        raise
+
+
 def run_case(case, out=None, overrides=(), progress: bool = True, resume=None, overwrite: bool = False,
-             protect=(), quiet: bool = False) -> Run:
+             protect=(), quiet: bool = False, comm=None) -> Run:
     """Run ``case`` (a path to a case JSON, or a case dict) to its end time; see the module docstring.
     ``overrides``: KEY=VALUE strings as `geompm run --set`.  Raises CaseError for a bad case (nothing is
-    made); an unphysical or stopped run returns a Run with a non-zero exit code."""
+    made); an unphysical or stopped run returns a Run with a non-zero exit code.  Started by an MPI
+    launcher on several processes (or given an mpi4py-backed ``comm``, parallel/comm.MpiComm), the
+    processes share the run (docs/parallel.md)."""
     from geompm.engine.first_step import (check_output_intervals, first_step_estimate, fixed_step_problem,
                                           stage_warnings, viscous_warning)
-    from geompm.engine.launch import check_single_process
+    from geompm.engine.launch import world
     from geompm.engine.runner import Interrupted, Runner
     from geompm.engine.scheduler import Simulation
     from geompm.schema.load import apply_overrides, load_case, parse_case
     from geompm.setup.assemble import assemble
     from geompm.writers.series import SeriesWriter
 
-    check_single_process()
+    comm = comm if comm is not None else world()
     sets = list(overrides)
     saved_end = saved_end_time(resume) if resume else None
     loaded = load_case(case, sets) if not isinstance(case, dict) else parse_case(apply_overrides(case, sets), ".")
@@ -227,9 +271,14 @@ def run_case(case, out=None, overrides=(), progress: bool = True, resume=None, o
     except CaseError as exc:
         exc.warnings = exc.warnings or loaded.warnings
         raise
+    domain = WHOLE
+    if comm is not None and comm.size > 1:
+        from geompm.parallel.slabs import Slabs
+
+        domain = Slabs(comm, scene)
     mem, _, dt = first_step_estimate(scene)
-    run_dir = run_folder(loaded, scene, out, resume, overwrite, protect)
-    setup_logging(run_dir, quiet=quiet)
+    run_dir = on_root(domain.comm, lambda: run_folder(loaded, scene, out, resume, overwrite, protect))
+    setup_logging(run_dir if domain.comm.is_root else None, quiet=quiet or not domain.comm.is_root)
     writers = list(scene.writers)
     if not any(isinstance(w, SeriesWriter) for w in writers):
         writers.insert(0, SeriesWriter(SeriesWriter.Params(), 0.0))
@@ -238,7 +287,7 @@ def run_case(case, out=None, overrides=(), progress: bool = True, resume=None, o
         from geompm.engine import checkpoint
 
         nchunks = checkpoint.read_meta(run_dir)["nchunks"]
-    sim = Simulation(scene, nchunks=nchunks)
+    sim = Simulation(scene, nchunks=nchunks, domain=domain)
     runner = Runner(sim, run_dir, writers, progress=progress and not quiet)
     if resume:
         runner.resume()
@@ -247,7 +296,7 @@ def run_case(case, out=None, overrides=(), progress: bool = True, resume=None, o
                         f"(time.end = {scene.end_time:g} s): nothing to do; to run on, resume with "
                         f"--set time.end=<a later time>")
             status = json.loads((run_dir / "status.json").read_text()) if (run_dir / "status.json").is_file() else {}
-            return Run(run_dir, FINISHED, status, declared_outputs(run_dir, writers))
+            return Run(run_dir, FINISHED, status, declared_outputs(run_dir, writers))  # every rank alike
         explicit = any(x.split("=", 1)[0] == "time.end" for x in sets)
         if saved_end is not None and saved_end != scene.end_time and not explicit:
             log.warning(f"warning: the case file's time.end is {scene.end_time:g} s but '{run_dir}' was run to "
@@ -256,9 +305,10 @@ def run_case(case, out=None, overrides=(), progress: bool = True, resume=None, o
         log.info(f"geompm {__version__}: resuming '{scene.name}' in {run_dir} at step {sim.step_count}, "
                  f"t = {sim.time:.6g} s, to end time {scene.end_time:g} s")
     else:
+        ranks = f" on {domain.size} MPI ranks (slabs along {'xyz'[domain.axis]})" if domain.size > 1 else ""
         log.info(f"geompm {__version__}: case '{scene.name}', {scene.dim}D, {scene.state.n} particles, "
                  f"h = {scene.grid.h:g} m, end time {scene.end_time:g} s, first dt {dt:.3g} s, "
-                 f"~{mem / 2**20:.0f} MiB -> {run_dir}")
+                 f"~{mem / 2**20:.0f} MiB -> {run_dir}{ranks}")
         viscous_warning(loaded, scene, log.warning)
         stage_warnings(scene, log.warning, loaded)
         problem = fixed_step_problem(scene)
@@ -267,7 +317,7 @@ def run_case(case, out=None, overrides=(), progress: bool = True, resume=None, o
     summary = None
     try:
         with StopOnSignal(runner) as stopper:
-            summary = runner.run()
+            summary = run_on_every_rank(runner, domain, run_dir)
     except SimulationError as exc:
         log.error(f"error: the run stopped at step {sim.step_count}, t = {sim.time:.6g} s: {exc}")
         log.error(f"output written so far is kept in {run_dir}; the last checkpoint is before this step")

@@ -18,6 +18,7 @@ import time as wallclock
 from dataclasses import dataclass
 
 from geompm.engine import checkpoint
+from geompm.engine.gathered import gathered
 from geompm.engine.health import HealthCheck, check_domain
 from geompm.engine.scheduler import Simulation
 
@@ -117,7 +118,9 @@ class Runner:
                 "wall": self.wall_before + wallclock.perf_counter() - self.t0, "deleted": self.deleted}
 
     def checkpoint(self):
-        path = checkpoint.save(self.run_dir, self.sim, self._meta(), self.writers, self.keep)
+        """Write a checkpoint (rank 0, from every rank's particles: a collective call); its path on rank 0."""
+        whole = gathered(self.sim)
+        path = None if whole is None else checkpoint.save(self.run_dir, whole, self._meta(), self.writers, self.keep)
         self.last_ckpt_wall = wallclock.perf_counter()
         return path
 
@@ -132,23 +135,42 @@ class Runner:
         self.resumed = True
 
     # -- the loop -------------------------------------------------------------------------
+    def _each_writer(self, writers, call):
+        """``call(writer, sim)`` for each writer this rank runs, with what it reads (Writer.ranks): its
+        own particles, or (rank 0) every particle gathered; one process: every writer with the
+        simulation."""
+        sim = self.sim
+        whole = gathered(sim) if any(w.ranks == "gathered" for w in writers) else sim
+        for w in writers:
+            if w.ranks == "own":
+                call(w, sim)
+            elif sim.domain.comm.is_root:
+                call(w, whole if w.ranks == "gathered" else sim)
+
     def _emit(self, force=False):
         sim = self.sim
-        for k, w in enumerate(self.writers):
-            if self.last_written[k] == sim.step_count:
-                continue
-            if force or w.interval == 0.0 or sim.time >= self.due[k] * (1 - 1e-12) - 1e-15:
-                w.write(sim)
-                self.last_written[k] = sim.step_count
-                if w.interval > 0.0:
-                    self.due[k] = _next_due(sim.time, w.interval)
+        due = [k for k, w in enumerate(self.writers) if self.last_written[k] != sim.step_count and
+               (force or w.interval == 0.0 or sim.time >= self.due[k] * (1 - 1e-12) - 1e-15)]
+        if not due:
+            return
+        self._each_writer([self.writers[k] for k in due], lambda w, view: w.write(view))
+        for k in due:
+            self.last_written[k] = sim.step_count
+            if self.writers[k].interval > 0.0:
+                self.due[k] = _next_due(sim.time, self.writers[k].interval)
 
     def _checkpoint_due(self) -> bool:
         sim = self.sim
         if self.ckpt_due is not None and sim.time >= self.ckpt_due * (1 - 1e-12):
             self.ckpt_due = _next_due(sim.time, self.ckpt_interval)
             return True
-        return self.ckpt_wall is not None and wallclock.perf_counter() - self.last_ckpt_wall >= self.ckpt_wall
+        return self.ckpt_wall is not None and self._anywhere(
+            wallclock.perf_counter() - self.last_ckpt_wall >= self.ckpt_wall)
+
+    def _anywhere(self, flag: bool) -> bool:
+        """Whether ``flag`` holds on any rank (a stop request, a wall-clock checkpoint: every rank must
+        take the same branch)."""
+        return bool(self.sim.domain.comm.max([1.0 if flag else 0.0])[0] > 0.0)
 
     def advance(self, end):
         """One step of the loop: time-step control, the step, health and domain checks (no output)."""
@@ -176,24 +198,25 @@ class Runner:
         """Set up the health check and the clocks; ``run`` calls it, ``geompm bench`` calls it before
         stepping with ``advance``."""
         self.t0 = self.last_ckpt_wall = wallclock.perf_counter()
-        self.health = HealthCheck(self.sim.scene)
+        self.sim.distribute()
+        self.health = HealthCheck(self.sim.scene, self.sim.domain.comm)
         self.first_dt = self.sim.stable_dt()
 
     def run(self, until: float | None = None) -> RunSummary:
         sim = self.sim
         end = sim.scene.end_time if until is None else until
         self.start()
-        for k, w in enumerate(self.writers):
-            if self.resumed:
-                w.resume(self.run_dir, sim, self.writer_states[k])
-            else:
-                w.open(self.run_dir, sim)
+        if self.resumed:
+            states = {id(w): s for w, s in zip(self.writers, self.writer_states)}
+            self._each_writer(self.writers, lambda w, view: w.resume(self.run_dir, view, states[id(w)]))
+        else:
+            self._each_writer(self.writers, lambda w, view: w.open(self.run_dir, view))
         bar = _Progress(sim.time, end, self.progress)
         step0 = sim.step_count
         try:
             self._emit(force=not self.resumed)
             while sim.time < end * (1 - 1e-12):
-                if sim.state.n == 0:
+                if sim.count() == 0:
                     self.warn_once("empty", f"every particle has left the grid by t = {sim.time:.6g} s: "
                                             "the run ends here")
                     break
@@ -201,9 +224,9 @@ class Runner:
                 self._emit()
                 if sim.step_count % PROGRESS_EVERY == 0:
                     bar.update(sim, sim.step_count - step0, self.t0)
-                if self.stop_reason is not None:
+                if self._anywhere(self.stop_reason is not None):
                     self.checkpoint()
-                    raise Interrupted(self.stop_reason)
+                    raise Interrupted(self.stop_reason or "a stop request on another rank")
                 if self._checkpoint_due():
                     self.checkpoint()
             self._emit(force=True)
@@ -212,9 +235,10 @@ class Runner:
         finally:
             bar.close()
             for w in self.writers:
-                w.close(sim)
+                if w.ranks == "own" or sim.domain.comm.is_root:
+                    w.close(sim)
         wall = wallclock.perf_counter() - self.t0
-        return RunSummary(sim.step_count, sim.time, wall, sim.state.n, sim.step_count - step0, self.deleted)
+        return RunSummary(sim.step_count, sim.time, wall, sim.count(), sim.step_count - step0, self.deleted)
 
 
 def run(sim: Simulation, run_dir, writers, progress: bool = True, until: float | None = None) -> RunSummary:

@@ -28,11 +28,14 @@ from geompm.kernels.reduce import kinetic_energy, max_coordinate, max_coordinate
 from geompm.contract.stages import BOUNDARY, GridStage, ParticleStage
 from geompm.engine.triggers import StrengthSchedule
 from geompm.mpm.water_table import WaterTable
+from geompm.parallel.whole import WHOLE
 
 
 class Simulation:
-    def __init__(self, scene, nchunks: int | None = None):
+    def __init__(self, scene, nchunks: int | None = None, domain=WHOLE):
         self.scene = scene
+        #: how the run is shared between processes (parallel/whole.py: one; parallel/slabs.py: MPI ranks)
+        self.domain = domain
         stages = sorted(scene.stages, key=lambda s: s.phase)
         self.grid_stages = [s for s in stages if isinstance(s, GridStage)]
         self.particle_stages = [s for s in stages if isinstance(s, ParticleStage)]
@@ -40,6 +43,7 @@ class Simulation:
         split_force = scene.transfer == "flip" or any(s.needs_split_force for s in self.grid_stages) \
             or scene.pore_water is not None
         self.backend = make_backend(scene, split_force, nchunks)
+        self.backend.domain = domain
         self.step = self._step_musl if scene.musl else self._step_usl
         if scene.pore_water is not None:
             self.step = self._step_saturated
@@ -62,7 +66,16 @@ class Simulation:
         return self.backend.buffers
 
     def stable_dt(self) -> float:
-        return self.backend.stable_dt()
+        return self.domain.stable_dt(self.backend)
+
+    def distribute(self) -> None:
+        """Keep this rank's particles of the whole state every rank holds (before the first step, after a
+        resume); nothing in one process."""
+        self.domain.distribute(self.state)
+
+    def count(self) -> int:
+        """Particles in the run, on every rank."""
+        return int(round(float(self.domain.comm.sum([self.state.n])[0])))
 
     def _sort_if_due(self):
         every = self.scene.sort_interval
@@ -70,13 +83,15 @@ class Simulation:
             self.backend.sort_particles()
 
     def _begin(self, dt):
+        self.domain.before_step(self)
         self._sort_if_due()
         be = self.backend
-        view = be.window()
+        view = self.domain.window(be)
         if self.water is not None:
             st = self.state
             be.set_pore_pressure(self.water.pressure(st.p_x, st.p_material, self.time))
         be.p2g(view, 1.0 if be.split_force else dt)
+        self.domain.sum_halo(view, (view.g_mass, view.g_mom, view.g_force))
         be.grid_update(view, dt)
         for stage in self.grid_stages:
             be.grid_stage(stage, view, dt, self.time, False)
@@ -105,6 +120,7 @@ class Simulation:
         view = self._begin(dt)
         be.g2p(view, dt, set_velocity=True, move=False, gradient=False)
         be.p2g(view, 0.0)
+        self.domain.sum_halo(view, (view.g_mass, view.g_mom))
         be.remap_velocity(view)
         for stage in self.grid_stages:
             be.grid_stage(stage, view, dt, self.time, True)
@@ -141,11 +157,12 @@ class Simulation:
         st, sc = self.state, self.scene
         out = {}
         nbodies = len(sc.body_materials)
+        top = self.domain.comm.max
         if nbodies > 1:
-            for b, x in enumerate(max_coordinate_by_group(st.p_x, 0, st.p_body, nbodies)):
+            for b, x in enumerate(top(max_coordinate_by_group(st.p_x, 0, st.p_body, nbodies))):
                 out[f"front_x_body{b}"] = float(x) if np.isfinite(x) else float("nan")
         if len(sc.material_names) > 1:
-            fronts = max_coordinate_by_group(st.p_x, 0, st.p_material, len(sc.material_names))
+            fronts = top(max_coordinate_by_group(st.p_x, 0, st.p_material, len(sc.material_names)))
             for name, x in zip(sc.material_names, fronts):
                 out[f"front_x_{name}"] = float(x) if np.isfinite(x) else float("nan")
         return out
@@ -164,13 +181,13 @@ class Simulation:
 
     def series_row(self) -> dict[str, float]:
         """The quantities of one series.csv row at the current state."""
-        st = self.state
+        st, comm = self.state, self.domain.comm
         row = {
             "time": self.time,
             "step": self.step_count,
             "dt": self.dt,
-            "kinetic_energy": kinetic_energy(st.p_mass, st.p_v),
-            "front_x": max_coordinate(st.p_x, 0),
+            "kinetic_energy": float(comm.sum([kinetic_energy(st.p_mass, st.p_v)])[0]),
+            "front_x": float(comm.max([max_coordinate(st.p_x, 0)])[0]),
         }
         row.update(self.group_fronts())
         if self.strength is not None:

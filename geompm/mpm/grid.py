@@ -82,7 +82,12 @@ class GridBuffers:
 
     def window(self, p_x) -> GridView:
         """Window covering every particle's stencil; error if a particle left the grid."""
-        lo, nloc = window_extent(self.spec, cell_bounds(p_x, self.spec.origin, 1.0 / self.spec.h), lambda: p_x)
+        return self.view(*window_extent(self.spec, cell_bounds(p_x, self.spec.origin, 1.0 / self.spec.h),
+                                        lambda: p_x))
+
+    def view(self, lo, nloc) -> GridView:
+        """The window of ``nloc`` nodes per axis from global node ``lo`` (parallel/halo.py gives it for a
+        rank's slab), its buffers grown when needed."""
         nn = int(np.prod(nloc))
         if nn > self.cap:
             self._alloc(int(nn * 1.25) + 64)

@@ -23,6 +23,12 @@ class Writer(Plugin):
     #: the files it writes, as glob patterns relative to the run folder (geompm.run's Run.outputs and
     #: geompm plot find them through this)
     files: ClassVar[tuple[str, ...]] = ()
+    #: what it reads of the particles when a run is shared between MPI ranks (docs/parallel.md):
+    #: "gathered": rank 0 alone opens, writes and closes it, with every particle of the run gathered there
+    #: (in material blocks, each ordered by particle id); "none": rank 0 alone, and it reads no particle;
+    #: "own": every rank calls it with its own particles, it joins the ranks' parts through
+    #: ``sim.domain.comm`` itself and writes files on rank 0 only (``comm.is_root``)
+    ranks: ClassVar[str] = "gathered"
 
     def __init__(self, params, interval: float):
         self.params = params

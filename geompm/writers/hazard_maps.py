@@ -142,6 +142,7 @@ class HazardMapWriter(Writer):
     files = ("maps/*.tif", "maps/summary.json")
     description = "GeoTIFF hazard maps on the DEM: max depth, speed, pressure, energy, arrival time, deposit (3D)"
     Params = HazardMapParams
+    ranks = "own"  # the column sums are summed over the ranks; rank 0 writes the maps
 
     def __init__(self, params, interval: float):
         super().__init__(params, 0.0)  # accumulated every step, whatever the output interval
@@ -179,7 +180,9 @@ class HazardMapWriter(Writer):
         self.x0, self.y0 = dem.x0 - dem.dx / 2, dem.y0 - dem.dy / 2  # the raster's corner (pixel edges)
         self.area = self.cx * self.cy
         self.folder = Path(run_dir) / "maps"
-        self.folder.mkdir(exist_ok=True)
+        self.root = sim.domain.comm.is_root
+        if self.root:
+            self.folder.mkdir(exist_ok=True)
         self.sums = np.zeros((nx, ny, 6))
         self.depth = np.zeros((nx, ny))
         self.maps = {name: np.zeros((nx, ny)) for name in MAPS}
@@ -194,8 +197,11 @@ class HazardMapWriter(Writer):
     def write(self, sim) -> None:
         st = sim.state
         nx, ny = self.depth.shape
-        self.volume_outside = column_sums(st.p_x, st.p_v, st.p_mass, st.p_vol0, self.x0, self.y0, self.cx, self.cy,
-                                          nx, ny, self.sums)
+        outside = column_sums(st.p_x, st.p_v, st.p_mass, st.p_vol0, self.x0, self.y0, self.cx, self.cy, nx, ny,
+                              self.sums)
+        comm = sim.domain.comm
+        self.sums[:] = comm.sum(self.sums)
+        self.volume_outside = float(comm.sum([outside])[0])
         m = self.maps
         accumulate(self.sums, self.area, self.params.depth_threshold, sim.time, self.depth, m["depth_max"],
                    m["speed_max"], m["pressure_max"], m["energy_max"], m["arrival"])
@@ -228,6 +234,8 @@ class HazardMapWriter(Writer):
                     dst.update_tags(1, quantity=name, units=UNITS[name])
 
     def close(self, sim) -> None:
+        if not self.root:
+            return
         self._geotiffs()
         m = self.maps
         flowed = m["depth_max"] >= self.params.depth_threshold

@@ -56,6 +56,7 @@ class SeriesWriter(Writer):
     files = ("series.csv",)
     description = "series.csv: time, step, dt, kinetic energy, front position and stage quantities"
     Params = SeriesParams
+    ranks = "own"  # every column is reduced over the ranks (sim.domain.comm); rank 0 writes the file
 
     @classmethod
     def check(cls, params, case):
@@ -71,21 +72,25 @@ class SeriesWriter(Writer):
     def _row(self, sim):
         row = sim.series_row()
         nm = self.params.normalise
+        comm = sim.domain.comm
         if nm is not None:
             st = sim.state
             g = float(np.linalg.norm(sim.scene.gravity))
-            front = max_projection(st.p_x, self.origin, self.direction)
+            front = float(comm.max([max_projection(st.p_x, self.origin, self.direction) if st.n else -np.inf])[0])
             row["T_star"] = sim.time * np.sqrt(g / nm.height)
             row["X_star"] = (front - nm.length) / nm.length
             row["K_star"] = row["kinetic_energy"] / (self.mass * g * nm.height)
         if self.params.displacement:
             st = sim.state
             u = np.sqrt(((st.p_x - st.p_x0) ** 2).sum(axis=1))
-            row["max_displacement"] = float(u.max()) if st.n else 0.0
-            row["mean_displacement"] = float(u.mean()) if st.n else 0.0
+            top, total, n = comm.max([u.max() if st.n else 0.0])[0], *comm.sum([u.sum(), st.n])
+            row["max_displacement"] = float(top)
+            row["mean_displacement"] = float(total / n) if n else 0.0
         if self.params.deposit_threshold is not None:
             t = self.params.deposit_threshold
-            xs, thickness = thickness_profile(sim.state.p_x, self._solid_areas(sim), 0.2 * t)
+            parts = comm.gather((sim.state.p_x[:, :1], self._solid_areas(sim)))
+            xs, thickness = thickness_profile(np.concatenate([p[0] for p in parts]),
+                                              np.concatenate([p[1] for p in parts]), 0.2 * t)
             row["deposit_front"] = front_of(xs, thickness, t, 0.2 * t)
             row["deposit_height"] = height_of(thickness, 0.2 * t, t)
         return row
@@ -105,14 +110,16 @@ class SeriesWriter(Writer):
         if nm is not None:
             self.origin = np.asarray(nm.origin, float)
             self.direction = np.asarray(nm.direction, float) / np.linalg.norm(nm.direction)
-            self.mass = float(sim.state.p_mass.sum())
+            self.mass = float(sim.domain.comm.sum([sim.state.p_mass.sum()])[0])
         self.path = run_dir / "series.csv"
+        self.fd = None  # series.csv, open on rank 0 only
 
     def open(self, run_dir, sim):
         self._setup(run_dir, sim)
         self.columns = list(self._row(sim))
-        self.fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_APPEND, 0o666)  # less the umask
-        os.write(self.fd, (",".join(self.columns) + "\n").encode())
+        if sim.domain.comm.is_root:
+            self.fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_APPEND, 0o666)  # less the umask
+            os.write(self.fd, (",".join(self.columns) + "\n").encode())
 
     def state(self):
         return {"columns": self.columns, "bytes": os.fstat(self.fd).st_size, "mass": self.mass}
@@ -123,17 +130,22 @@ class SeriesWriter(Writer):
         if state.get("mass") is not None:
             self.mass = state["mass"]  # the initial mass, even if particles were deleted since
         self.columns = state["columns"]
-        self.fd = os.open(self.path, os.O_WRONLY | os.O_APPEND)
-        os.ftruncate(self.fd, state["bytes"])
+        if sim.domain.comm.is_root:
+            self.fd = os.open(self.path, os.O_WRONLY | os.O_APPEND)
+            os.ftruncate(self.fd, state["bytes"])
 
     def write(self, sim):
         row = self._row(sim)
+        if self.fd is None:
+            return
         line = ",".join(repr(int(row[c])) if c == "step" else f"{row[c]:.10g}" for c in self.columns)
         os.write(self.fd, (line + "\n").encode())
 
     def close(self, sim):
-        os.fsync(self.fd)
-        os.close(self.fd)
+        if self.fd is not None:
+            os.fsync(self.fd)
+            os.close(self.fd)
+            self.fd = None
 
 
 def read_series(path: str | Path) -> dict[str, np.ndarray]:

@@ -44,6 +44,7 @@ class SurfacesWriter(Writer):
     description = "ParaView series of every rigid surface (obstacles, planes, walls, terrain): VTU per time and a PVD"
     Params = SurfacesParams
     wants_face_forces = True
+    ranks = "none"  # the surfaces and their face pressures are the same on every rank
 
     def open(self, run_dir, sim):
         self.dir = run_dir / "surfaces"

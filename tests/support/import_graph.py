@@ -22,6 +22,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("kernels",),
     ("mpm",),
     ("files",),
+    ("parallel",),
     ("materials", "damping", "contact"),
     ("boundaries", "obstacles"),
     ("backend",),

@@ -1,0 +1,1 @@
+"""One run over several processes (MPI): slabs of cells, halo sums, particle migration (docs/parallel.md)."""

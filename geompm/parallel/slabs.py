@@ -1,0 +1,190 @@
+"""One run on several MPI ranks: each owns a slab of cells and the particles in it (docs/parallel.md).
+
+A step on rank r (engine/scheduler.py calls these around the backend's kernels):
+
+1. ``before_step``: particles that left the slab go to the rank that owns their cell now, packed with
+   every per-particle array and their law's state variables (parallel/migrate.py); every
+   ``rebalance_every`` steps the cuts are first moved so that each slab holds about n / size particles
+   (parallel/partition.py).
+2. ``window``: the grid window of the slab's particles, across the other axes as wide as the whole run's
+   (parallel/halo.py); a particle outside the grid on any rank stops every rank with its message.
+3. P2G on the rank's own particles, then ``sum_halo``: the nodes two neighbours share get both partial
+   sums (mass, momentum, force), so every node of the window holds the sum over all particles.
+4. The grid update and the grid stages on the whole window; a stage's reduction counts the nodes
+   ``node_parts`` marks, and the accumulator rows of every rank are stacked (``comm.rows``), so every
+   rank hands its stages the same numbers and their states (an obstacle's force history) stay equal.
+5. G2P, the particle stages and the stress update on the rank's own particles.
+
+Where the answers differ from one process: a node's P2G sum is the sum of two ranks' partial sums (each
+in particle order), and every reduction (kinetic energy, an obstacle's force, hazard-map column sums) is
+summed per rank and then over ranks, so the result matches the one-process run to round-off, not bit
+for bit.  The stable step, the health checks' and the series' maxima are exact.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from geompm.errors import CaseError, SimulationError
+from geompm.mpm.grid import window_extent
+from geompm.parallel import halo
+from geompm.parallel.migrate import canonical, merge, nparticles, pack
+from geompm.parallel.partition import balanced_cuts, check_rank_count, owners, particle_cells, split_axis
+from geompm.parallel.whole import Whole
+
+#: steps between two rebalancings of the cuts by particle count (docs/parallel.md, "Rebalancing")
+REBALANCE_EVERY = 100
+
+
+def refuse_unsplittable(scene, size: int) -> None:
+    """CaseError before any work for what a run on several ranks cannot do yet (docs/parallel.md)."""
+    problems = []
+    if scene.pore_water is not None:
+        problems.append(("materials", f"saturated soil (pore water) runs in one process only; this run was "
+                                      f"started on {size} MPI ranks"))
+    for stage in scene.stages:
+        if not type(stage).splits_over_ranks:
+            problems.append((stage.json_path or stage.label,
+                             f"stage '{stage.label}' ({type(stage).name}) sums particles outside its "
+                             f"pass, so it cannot run on {size} MPI ranks; run the case in one process"))
+    if problems:
+        raise CaseError(problems)
+
+
+class Slabs(Whole):
+    def __init__(self, comm, scene, rebalance_every: int = REBALANCE_EVERY):
+        refuse_unsplittable(scene, comm.size)
+        g = scene.grid
+        self.comm, self.size, self.rank = comm, comm.size, comm.rank
+        self.spec = g
+        self.axis = split_axis(g.ncells, [a for s in scene.stages for a in s.periodic_axes()])
+        self.ncells = int(g.ncells[self.axis])
+        check_rank_count(self.size, self.ncells, self.axis)
+        self.rebalance_every = int(rebalance_every)
+        self.cuts = None
+        self.windows = None  # per rank: (lo, hi) nodes along the axis of its window, None without particles
+        self.c_range = None  # the nodes [c_lo, c_hi) along the axis whose reductions this rank counts
+        self.sent_particles = 0  # particles this rank sent to others
+        self.halo_nodes = 0  # nodes summed with neighbours, all steps
+        self.halo_bytes = 0  # of them, bytes sent
+        self.halo_sums = 0  # halo sums made
+        self.rebalanced = 0
+
+    # -- particles -----------------------------------------------------------------------------
+    def _cells(self, state):
+        g, a = self.spec, self.axis
+        return particle_cells(state.p_x, a, float(g.origin[a]), g.h, self.ncells)
+
+    def distribute(self, state) -> None:
+        cells = self._cells(state)
+        self.cuts = balanced_cuts(np.bincount(cells, minlength=self.ncells), self.size)
+        merge(state, owners(cells, self.cuts) == self.rank, [])
+
+    def before_step(self, sim) -> None:
+        st = sim.state
+        if self.rebalance_every and sim.step_count and sim.step_count % self.rebalance_every == 0:
+            counts = self.comm.sum(np.bincount(self._cells(st), minlength=self.ncells).astype(np.float64))
+            cuts = balanced_cuts(np.rint(counts).astype(np.int64), self.size)
+            if not (cuts == self.cuts).all():
+                self.cuts = cuts
+                self.rebalanced += 1
+        own = owners(self._cells(st), self.cuts)
+        out = [None] * self.size
+        for r in np.unique(own):
+            if r != self.rank:
+                out[r] = pack(st, own == r)
+                self.sent_particles += nparticles(out[r])
+        got = self.comm.exchange(out)
+        merge(st, own == self.rank, [p for r, p in enumerate(got) if r != self.rank])
+
+    def gathered(self, state):
+        import copy
+
+        parts = self.comm.gather_root(pack(state, np.ones(state.n, bool)))
+        if parts is None:
+            return None
+        whole = copy.copy(state)
+        whole.sort_work = None
+        merge(whole, np.zeros(state.n, bool), parts)
+        canonical(whole)
+        return whole
+
+    def stable_dt(self, backend) -> float:
+        """The limits of backend/timestep.py from the largest wave speed, speed and stretching rate of all
+        ranks: the step one process takes, to the last bit (maxima do not depend on order)."""
+        from geompm.backend.timestep import step_limit
+
+        scene = backend.scene
+        if scene.dt_fixed is not None:
+            return scene.dt_fixed
+        c, v, rate = self.comm.max(np.array(backend.dt_parts(), np.float64))
+        return step_limit(scene, float(c) + float(v), float(rate))
+
+    # -- grid ----------------------------------------------------------------------------------
+    def window(self, backend):
+        spec, a = self.spec, self.axis
+        mine = backend.particle_cells()
+        every = self.comm.gather(mine)
+        bad = [r for r, b in enumerate(every) if b is not None and ((b[0] < -1).any() or (b[1] > spec.ncells).any())]
+        if bad:
+            message = None
+            if self.rank == bad[0]:
+                try:
+                    window_extent(spec, mine, lambda: backend.host_state().p_x)
+                except SimulationError as exc:
+                    message = str(exc)
+            raise SimulationError(self.comm.gather(message)[bad[0]] or "a particle left the grid")
+        live = [b for b in every if b is not None]
+        if not live:
+            raise SimulationError("no particle is left on any rank")
+        b = np.array([np.min([x[0] for x in live], axis=0), np.max([x[1] for x in live], axis=0)])
+        self.windows = [None if x is None else (int(x[0, a]) - 1, int(x[1, a]) + 3) for x in every]
+        lo, nloc = window_extent(spec, b, None)
+        if mine is None:
+            nloc[a] = 0
+            self.c_range = (int(lo[a]), int(lo[a]))
+        else:
+            lo[a], nloc[a] = self.windows[self.rank][0], self.windows[self.rank][1] - self.windows[self.rank][0]
+            self.c_range = halo.counted(self.windows, self.cuts, self.rank)
+        return backend.window_at(lo, nloc)
+
+    def sum_halo(self, view, arrays) -> None:
+        arrays = [x for x in arrays if x is not None]
+        r, a = self.rank, self.axis
+        lo_a = int(view.lo[a])
+        below, above = halo.overlap(self.windows, r - 1, r), halo.overlap(self.windows, r, r + 1)
+
+        def packed(ov):
+            return None if ov is None else np.concatenate(
+                [np.ascontiguousarray(halo.slab_of(x, view.nloc, a, lo_a, *ov)).reshape(-1) for x in arrays])
+
+        send_up, send_down = packed(above), packed(below)
+        from_below = None if below is None else np.empty_like(send_down)
+        from_above = None if above is None else np.empty_like(send_up)
+        self.comm.swap(send_up, r + 1, from_below, r - 1)
+        self.comm.swap(send_down, r - 1, from_above, r + 1)
+        for ov, got in ((below, from_below), (above, from_above)):
+            if ov is None:
+                continue
+            k = 0
+            for x in arrays:
+                part = halo.slab_of(x, view.nloc, a, lo_a, *ov)
+                part += got[k:k + part.size].reshape(part.shape)
+                k += part.size
+            self.halo_nodes += (ov[1] - ov[0]) * int(np.prod(view.nloc)) // max(int(view.nloc[a]), 1)
+            self.halo_bytes += got.nbytes
+        self.halo_sums += 1
+
+    def node_parts(self, first, last):
+        return halo.node_parts(first, last, self.axis, *self.c_range)
+
+    def report(self) -> dict:
+        return {"ranks": self.size, "split_axis": "xyz"[self.axis], "cuts": [int(c) for c in self.cuts],
+                "rebalanced": self.rebalanced}
+
+    def measured(self) -> dict:
+        """This rank's traffic so far: particles sent, halo sums, halo nodes and bytes sent."""
+        return {"sent_particles": self.sent_particles, "halo_sums": self.halo_sums,
+                "halo_nodes": self.halo_nodes, "halo_bytes": self.halo_bytes,
+                "bytes_sent": getattr(self.comm, "bytes_sent", 0)}
+
