@@ -38,12 +38,16 @@ class Backend:
     def stable_dt(self) -> float:
         """The next step [s] (backend/timestep.py) from the particles' speeds, densities and the last
         stress update's largest |L_ii|."""
-        from geompm.backend.timestep import step_limit
-
         if self.scene.dt_fixed is not None:
             return self.scene.dt_fixed
         c, v, rate = self.dt_parts()
-        return step_limit(self.scene, c + v, rate)
+        return self.step_from(c + v, rate)
+
+    def step_from(self, speed: float, rate: float) -> float:
+        """The step [s] from the largest c_p + |v_p| [m/s] and |L_ii| [1/s] (backend/timestep.step_limit)."""
+        from geompm.backend.timestep import step_limit
+
+        return step_limit(self.scene, speed, rate)
 
     def dt_parts(self) -> tuple[float, float, float]:
         """(largest wave speed c_p [m/s], largest |v_p| [m/s], largest |L_ii| [1/s]) over this process's

@@ -112,13 +112,10 @@ class Slabs(Whole):
     def stable_dt(self, backend) -> float:
         """The limits of backend/timestep.py from the largest wave speed, speed and stretching rate of all
         ranks: the step one process takes, to the last bit (maxima do not depend on order)."""
-        from geompm.backend.timestep import step_limit
-
-        scene = backend.scene
-        if scene.dt_fixed is not None:
-            return scene.dt_fixed
+        if backend.scene.dt_fixed is not None:
+            return backend.scene.dt_fixed
         c, v, rate = self.comm.max(np.array(backend.dt_parts(), np.float64))
-        return step_limit(scene, float(c) + float(v), float(rate))
+        return backend.step_from(float(c) + float(v), float(rate))
 
     # -- grid ----------------------------------------------------------------------------------
     def window(self, backend):

@@ -8,6 +8,7 @@ isotropic elastic solid with positive bulk modulus, rho > 0, E > 0,
 """
 
 import json
+import sys
 import os
 
 import pytest
@@ -15,7 +16,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from geompm.cli import main
-from geompm.engine.launch import MPI_SIZE_VARIABLES, check_single_process
+from geompm.engine.launch import MPI_SIZE_VARIABLES, launched, world
 from geompm.errors import CaseError
 from geompm.schema import parse_case
 
@@ -254,11 +255,12 @@ def test_hostile_set_values_give_exit_0_or_2(tmp_path, sets):
 
 
 @pytest.mark.parametrize("name", MPI_SIZE_VARIABLES)
-def test_run_as_one_of_several_mpi_processes_is_refused(tmp_path, capsys, monkeypatch, name):
-    """`mpiexec -n 2 geompm run CASE` starts two copies, each of which would run the whole case into the same run
-    folder: refused with exit code 2 before any folder is made, naming the launcher's variable.  MPICH's
-    launcher sets PMI_SIZE (checked with mpiexec of the mpich 5.0.2 wheel), Open MPI OMPI_COMM_WORLD_SIZE,
-    MVAPICH MV2_COMM_WORLD_SIZE."""
+def test_a_launch_count_that_mpi_does_not_see_is_refused(tmp_path, capsys, monkeypatch, name):
+    """A launcher variable that says 2 processes while mpi4py's MPI sees one (another MPI's mpiexec started
+    geompm, or the variable is stale): each copy would run the whole case into the same run folder, so the
+    run is refused with exit code 2 before any folder is made, naming the variable.  MPICH's launcher sets
+    PMI_SIZE (checked with mpiexec of the mpich 5.0.2 wheel), Open MPI OMPI_COMM_WORLD_SIZE, MVAPICH
+    MV2_COMM_WORLD_SIZE."""
     monkeypatch.setenv(name, "2")
     f = tmp_path / "case.json"
     f.write_text(json.dumps(tiny_case()))
@@ -266,16 +268,24 @@ def test_run_as_one_of_several_mpi_processes_is_refused(tmp_path, capsys, monkey
     assert main(["run", str(f), "--out", str(run), "--quiet"]) == 2
     err = capsys.readouterr().err
     assert "error: refused:" in err
-    assert f"{name}: geompm was started as one of 2 MPI processes ({name}=2)" in err
+    assert f"{name}: the launcher started 2 processes ({name}=2) but mpi4py's MPI sees 1" in err
     assert not run.exists()
 
 
-def test_a_single_mpi_process_is_not_refused():
-    """A launcher's single process (N = 1), an empty or a non-numeric variable run as usual; 3 processes are
-    refused whichever launcher set the count."""
+def test_several_processes_without_mpi4py_are_refused(monkeypatch):
+    """Started as 3 processes with mpi4py missing (the '[mpi]' extra not installed): refused, naming the
+    variable and the extra to install."""
+    monkeypatch.setitem(sys.modules, "mpi4py", None)
+    with pytest.raises(CaseError) as exc:
+        world({"PMI_SIZE": "3"})
+    where, text = exc.value.problems[0]
+    assert where == "PMI_SIZE" and "one of 3 MPI processes" in text and "pip install 'geompm[mpi]'" in text
+
+
+def test_a_single_mpi_process_runs_alone():
+    """A launcher's single process (N = 1), an empty or a non-numeric variable run in one process (no
+    communicator); a count of 3 is read from whichever launcher set it."""
     for env in ({}, {"PMI_SIZE": "1"}, {"OMPI_COMM_WORLD_SIZE": ""}, {"MV2_COMM_WORLD_SIZE": "x"}):
-        check_single_process(env)
+        assert launched(env) == (1, "") and world(env) is None
     for name in MPI_SIZE_VARIABLES:
-        with pytest.raises(CaseError) as exc:
-            check_single_process({name: "3"})
-        assert exc.value.problems[0][0] == name and "one of 3 MPI processes" in exc.value.problems[0][1]
+        assert launched({name: "3"}) == (3, name)
