@@ -72,15 +72,16 @@ class Run:
         return {k: (v["peak_force"], v["peak_time"]) for k, v in self.status.get("obstacles", {}).items()}
 
 
-def setup_logging(run_dir: Path | None = None, quiet: bool = False) -> None:
-    """Messages to the terminal (warnings and errors only when quiet) and to the run folder's run.log."""
+def setup_logging(run_dir: Path | None = None, quiet: bool = False, silent: bool = False) -> None:
+    """Messages to the terminal (warnings and errors only when quiet; only a rank's own crash when silent:
+    the MPI ranks other than 0) and to the run folder's run.log."""
     log.setLevel(logging.INFO)
     for h in list(log.handlers):
         h.close()
     log.handlers.clear()
     term = logging.StreamHandler(sys.stdout)
     term.setFormatter(logging.Formatter("%(message)s"))
-    term.setLevel(logging.WARNING if quiet else logging.INFO)
+    term.setLevel(logging.CRITICAL if silent else logging.WARNING if quiet else logging.INFO)
     log.addHandler(term)
     if run_dir is not None:
         fh = logging.FileHandler(run_dir / "run.log", mode="a")
@@ -239,8 +240,8 @@ def run_on_every_rank(runner, domain, run_dir):
         raise
     except Exception:
         if domain.size > 1:
-            log.exception(f"error on MPI rank {domain.rank}; stopping every rank (the checkpoints written so "
-                          f"far are kept in {run_dir})")
+            log.critical(f"error on MPI rank {domain.rank}; stopping every rank (the checkpoints written so "
+                          f"far are kept in {run_dir})", exc_info=True)
             domain.comm.abort(1)
         raise
 
@@ -278,7 +279,7 @@ def run_case(case, out=None, overrides=(), progress: bool = True, resume=None, o
         domain = Slabs(comm, scene)
     mem, _, dt = first_step_estimate(scene)
     run_dir = on_root(domain.comm, lambda: run_folder(loaded, scene, out, resume, overwrite, protect))
-    setup_logging(run_dir if domain.comm.is_root else None, quiet=quiet or not domain.comm.is_root)
+    setup_logging(run_dir if domain.comm.is_root else None, quiet=quiet, silent=not domain.comm.is_root)
     writers = list(scene.writers)
     if not any(isinstance(w, SeriesWriter) for w in writers):
         writers.insert(0, SeriesWriter(SeriesWriter.Params(), 0.0))
