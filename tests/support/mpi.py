@@ -59,22 +59,31 @@ def relative(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def differences(one: Path, many: Path) -> dict[str, float]:
-    """Largest relative difference of each compared field and of each series column between two runs of
-    the same case; KeyError-free: the particle ids and the step counts must match (asserted)."""
+    """Largest relative difference of each compared field (and of the displacements, ``p_u``) and of each
+    series column (beyond the csv's printed resolution) between two runs of the same case; the particle
+    ids and the step counts must match (asserted)."""
     a, meta_a = final_state(one)
     b, meta_b = final_state(many)
     assert meta_a["step"] == meta_b["step"], (meta_a["step"], meta_b["step"])
     assert np.array_equal(a["p_id"], b["p_id"]), "the runs hold different particles"
     out = {k: relative(a[k], b[k]) for k in FIELDS}
+    out["p_u"] = relative(a["p_x"] - a["p_x0"], b["p_x"] - b["p_x0"])  # displacements: map coordinates hide them
     head_a, rows_a = series(one)
     head_b, rows_b = series(many)
     assert head_a == head_b and rows_a.shape == rows_b.shape
     for j, c in enumerate(head_a):
         group = [k for k, other in enumerate(head_a) if vector_of(other) == vector_of(c)] if vector_of(c) else [j]
         scale = float(np.abs(rows_a[:, group]).max())
-        diff = float(np.abs(rows_a[:, j] - rows_b[:, j]).max())
+        diff = float(np.maximum(np.abs(rows_a[:, j] - rows_b[:, j]) - printed_unit(rows_a[:, j]), 0.0).max())
         out[f"series.{c}"] = diff / scale if scale > 0.0 else diff
     return out
+
+
+def printed_unit(values: np.ndarray) -> np.ndarray:
+    """One unit of the tenth significant digit of each value: series.csv's resolution (writers/series.py
+    prints %.10g), by which two values that differ in the 16th digit may differ when printed."""
+    mag = np.abs(values)
+    return np.where(mag > 0.0, 10.0 ** (np.floor(np.log10(np.where(mag > 0.0, mag, 1.0))) - 9), 0.0) * 1.000001
 
 
 def vector_of(column: str) -> str | None:

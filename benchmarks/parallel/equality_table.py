@@ -1,0 +1,43 @@
+"""The equality table of docs/parallel.md: each scene of tests/mpi/test_same_answers.py on 1, 2 and 3 MPI
+ranks (one numba thread each), and the largest relative difference of each field and series column
+against the one-process run.
+
+    python benchmarks/parallel/equality_table.py OUT_DIR
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+
+from tests.mpi.test_same_answers import SCENES  # noqa: E402
+from tests.support import mpi  # noqa: E402
+
+
+def main(out: Path) -> None:
+    rows = []
+    for name, make in SCENES.items():
+        case = make()
+        assert mpi.run(case, out / name / "r1", 1).returncode == 0
+        one = out / name / "r1" / "run"
+        _, meta = mpi.final_state(one)
+        guard = {k: v.get("particles_put_back") for k, v in meta["stages"].items() if "particles_put_back" in v}
+        for ranks in (2, 3):
+            done = mpi.run(case, out / name / f"r{ranks}", ranks)
+            assert done.returncode == 0, done.stderr
+            diff = mpi.differences(one, out / name / f"r{ranks}" / "run")
+            fields = {k: diff[k] for k in mpi.FIELDS}
+            worst_series = max((k for k in diff if k.startswith("series.")), key=diff.get)
+            status = json.loads((out / name / f"r{ranks}" / "run" / "status.json").read_text())
+            rows.append({"scene": name, "ranks": ranks, "steps": meta["step"], "particles": status["particles"],
+                         "cuts": status["mpi"]["cuts"], **fields, "worst_series": worst_series,
+                         "worst_series_diff": diff[worst_series], "guard_put_back_1rank": guard})
+            print(json.dumps(rows[-1]))
+    (out / "equality.json").write_text(json.dumps(rows, indent=1))
+
+
+if __name__ == "__main__":
+    main(Path(sys.argv[1]))
