@@ -4,7 +4,7 @@ A step on rank r (engine/scheduler.py calls these around the backend's kernels):
 
 1. ``before_step``: particles that left the slab go to the rank that owns their cell now, packed with
    every per-particle array and their law's state variables (parallel/migrate.py); every
-   ``rebalance_every`` steps the cuts are first moved so that each slab holds about n / size particles
+   ``solver.rebalance_interval`` steps the cuts are first moved so that each slab holds about n / size particles
    (parallel/partition.py).
 2. ``window``: the grid window of the slab's particles, across the other axes as wide as the whole run's
    (parallel/halo.py); a particle outside the grid on any rank stops every rank with its message.
@@ -32,10 +32,6 @@ from geompm.parallel.migrate import canonical, merge, nparticles, pack
 from geompm.parallel.partition import balanced_cuts, check_rank_count, owners, particle_cells, split_axis
 from geompm.parallel.whole import Whole
 
-#: steps between two rebalancings of the cuts by particle count (docs/parallel.md, "Rebalancing")
-REBALANCE_EVERY = 100
-
-
 def refuse_unsplittable(scene, size: int) -> None:
     """CaseError before any work for what a run on several ranks cannot do yet (docs/parallel.md)."""
     problems = []
@@ -52,7 +48,7 @@ def refuse_unsplittable(scene, size: int) -> None:
 
 
 class Slabs(Whole):
-    def __init__(self, comm, scene, rebalance_every: int = REBALANCE_EVERY):
+    def __init__(self, comm, scene):
         refuse_unsplittable(scene, comm.size)
         g = scene.grid
         self.comm, self.size, self.rank = comm, comm.size, comm.rank
@@ -60,7 +56,7 @@ class Slabs(Whole):
         self.axis = split_axis(g.ncells, [a for s in scene.stages for a in s.periodic_axes()])
         self.ncells = int(g.ncells[self.axis])
         check_rank_count(self.size, self.ncells, self.axis)
-        self.rebalance_every = int(rebalance_every)
+        self.rebalance_every = int(scene.rebalance_interval)
         self.cuts = None
         self.windows = None  # per rank: (lo, hi) nodes along the axis of its window, None without particles
         self.c_range = None  # the nodes [c_lo, c_hi) along the axis whose reductions this rank counts

@@ -104,6 +104,10 @@ class SolverSpec(Strict):
         100, ge=0, description="Re-order the particles of each material by grid cell every this many steps "
         "(cache locality of the particle-grid transfers once a flow has mixed them; docs/performance.md); "
         "0: never. Results change only at round-off (the order of the P2G sums)")
+    rebalance_interval: int = Field(
+        100, ge=0, description="On several MPI ranks (docs/parallel.md): move the cuts between the ranks' slabs "
+        "so that each holds about as many particles, every this many steps; 0: keep the first cuts. Results "
+        "change only at round-off")
 
     pore_pressure_smoothing: bool = Field(
         True, description="Saturated soil only: the pore pressure acts on the grid, and is reported, as the "

@@ -47,6 +47,7 @@ class Scene:
     run_options: RunSpec  # checkpoints, on_leave_domain
     backend: str = "cpu"  # solver.backend (backend/__init__.py)
     sort_interval: int = 100  # solver.sort_interval: steps between two spatial sorts; 0 never
+    rebalance_interval: int = 100  # solver.rebalance_interval: steps between two MPI rebalancings; 0 never
     precision: str = "float64"  # solver.precision: the particle and grid arrays' dtype
     p2g: str = "atomic"  # solver.p2g: the cuda backend's P2G kernel
     dt_min: float = 1e-9
@@ -232,7 +233,8 @@ def assemble(loaded: LoadedCase) -> Scene:
         end_time=case.time.end, cfl=case.time.cfl, dt_max=case.time.dt_max, dt_fixed=case.time.dt,
         dt_min=case.time.dt_min, run_options=case.run,
         transfer=case.solver.transfer, flip_ratio=case.solver.flip_ratio,
-        backend=case.solver.backend, sort_interval=case.solver.sort_interval, precision=case.solver.precision,
+        backend=case.solver.backend, sort_interval=case.solver.sort_interval,
+        rebalance_interval=case.solver.rebalance_interval, precision=case.solver.precision,
         p2g=case.solver.p2g,
         flip_tau=case.solver.flip_relaxation_time,
         musl=case.solver.update == "musl",
