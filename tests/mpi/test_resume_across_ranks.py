@@ -1,0 +1,59 @@
+"""A run checkpointed on N MPI ranks resumes on M ranks (M = 1 included) with the answers of one
+uninterrupted process, and the slabs rebalance as the flow spreads (docs/parallel.md).
+
+A checkpoint holds every rank's particles gathered on rank 0, in the one-process format (one file, each
+material block ordered by particle id); each rank of the resumed run reads it and keeps its slab.  The
+dam break (cases/dam_break.json) runs to t = 5 ms (an output time, where the uninterrupted run lands too)
+on 2 ranks, then on to 8.6 ms once on 3 ranks and once in one process; both must match the
+uninterrupted one-process run to 1e-10 of each field's largest value, as a run that never stopped does
+(tests/mpi/test_same_answers.py).
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+
+import pytest
+
+from tests.mpi.test_same_answers import BOUND, _case
+from tests.support import mpi
+
+T1, T2 = 0.005, 0.0086
+
+
+def test_checkpoint_on_two_ranks_resumes_on_three_and_on_one(tmp_path):
+    case = _case("dam_break", **{"time.end": T2, "solver.rebalance_interval": 10})
+    assert mpi.run(case, tmp_path / "whole", 1).returncode == 0
+    first = dict(case, time=dict(case["time"], end=T1))
+    done = mpi.run(first, tmp_path / "two", 2)
+    assert done.returncode == 0, done.stdout + done.stderr
+    _, meta = mpi.final_state(tmp_path / "two" / "run")
+    assert meta["ranks"] == 2 and abs(meta["time"] - T1) < 1e-12
+    for ranks in (3, 1):
+        folder = tmp_path / f"on{ranks}"
+        shutil.copytree(tmp_path / "two", folder)
+        done = mpi.run(first, folder, ranks, "--set", f"time.end={T2}", resume=folder / "run")
+        assert done.returncode == 0, done.stdout + done.stderr
+        diff = mpi.differences(tmp_path / "whole" / "run", folder / "run")
+        worst = max(diff, key=diff.get)
+        assert diff[worst] <= BOUND, f"resumed on {ranks}: {worst} differs by {diff[worst]:.3g}"
+        status = json.loads((folder / "run" / "status.json").read_text())
+        assert status["finished"] and status["particles"] == 3200
+
+
+@pytest.mark.slow
+def test_slabs_rebalance_as_the_column_spreads(tmp_path):
+    """With solver.rebalance_interval = 20 the cuts follow the spreading water: on 3 ranks they move from
+    cells 7 and 14 (a third of the column each) as the surge runs out over the first 0.1 s (about 2500
+    steps), each slab keeps at least 4 cells, and the answers still match one process to 1e-10."""
+    case = _case("dam_break", **{"time.end": 0.1, "solver.rebalance_interval": 20})
+    assert mpi.run(case, tmp_path / "one", 1).returncode == 0
+    done = mpi.run(case, tmp_path / "three", 3)
+    assert done.returncode == 0, done.stdout + done.stderr
+    report = json.loads((tmp_path / "three" / "run" / "status.json").read_text())["mpi"]
+    assert report["rebalanced"] >= 1, report
+    cuts = report["cuts"]
+    assert all(b - a >= 4 for a, b in zip(cuts, cuts[1:]))
+    diff = mpi.differences(tmp_path / "one" / "run", tmp_path / "three" / "run")
+    assert max(diff.values()) <= BOUND
