@@ -62,7 +62,8 @@ class Slabs(Whole):
         self.c_range = None  # the nodes [c_lo, c_hi) along the axis whose reductions this rank counts
         self.sent_particles = 0  # particles this rank sent to others
         self.halo_nodes = 0  # nodes summed with neighbours, all steps
-        self.halo_bytes = 0  # of them, bytes sent
+        self.halo_bytes = 0  # bytes received from neighbours
+        self.halo_bytes_sent = 0  # bytes sent to neighbours
         self.halo_sums = 0  # halo sums made
         self.rebalanced = 0
 
@@ -142,7 +143,16 @@ class Slabs(Whole):
         return backend.window_at(lo, nloc)
 
     def sum_halo(self, view, arrays) -> None:
-        arrays = [x for x in arrays if x is not None]
+        """Neighbours add each other's partial sums on the nodes they share.  A device backend's arrays
+        (CUDA) travel through the host: copied down, summed, copied back."""
+        held = [x for x in arrays if x is not None]
+        arrays = [x if isinstance(x, np.ndarray) else x.copy_to_host() for x in held]
+        self._sum_on_host(view, arrays)
+        for dev, host in zip(held, arrays):
+            if dev is not host:
+                dev.copy_to_device(host)
+
+    def _sum_on_host(self, view, arrays) -> None:
         r, a = self.rank, self.axis
         lo_a = int(view.lo[a])
         below, above = halo.overlap(self.windows, r - 1, r), halo.overlap(self.windows, r, r + 1)
@@ -152,6 +162,7 @@ class Slabs(Whole):
                 [np.ascontiguousarray(halo.slab_of(x, view.nloc, a, lo_a, *ov)).reshape(-1) for x in arrays])
 
         send_up, send_down = packed(above), packed(below)
+        self.halo_bytes_sent += sum(b.nbytes for b in (send_up, send_down) if b is not None)
         from_below = None if below is None else np.empty_like(send_down)
         from_above = None if above is None else np.empty_like(send_up)
         self.comm.swap(send_up, r + 1, from_below, r - 1)
@@ -172,12 +183,17 @@ class Slabs(Whole):
         return halo.node_parts(first, last, self.axis, *self.c_range)
 
     def report(self) -> dict:
+        """status.json's ``mpi`` entry (a collective call): the slabs, how often they moved, and the
+        traffic of every rank."""
+        sent = self.comm.gather(self.measured())
         return {"ranks": self.size, "split_axis": "xyz"[self.axis], "cuts": [int(c) for c in self.cuts],
-                "rebalanced": self.rebalanced}
+                "rebalanced": self.rebalanced, "particles_migrated": sum(m["sent_particles"] for m in sent),
+                "halo_bytes_sent_per_rank": [int(m["bytes_sent"]) for m in sent],
+                "halo_sums": self.halo_sums}
 
     def measured(self) -> dict:
         """This rank's traffic so far: particles sent, halo sums, halo nodes and bytes sent."""
         return {"sent_particles": self.sent_particles, "halo_sums": self.halo_sums,
                 "halo_nodes": self.halo_nodes, "halo_bytes": self.halo_bytes,
-                "bytes_sent": getattr(self.comm, "bytes_sent", 0)}
+                "bytes_sent": self.halo_bytes_sent, "all_bytes_sent": getattr(self.comm, "bytes_sent", 0)}
 

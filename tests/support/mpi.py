@@ -24,7 +24,7 @@ def mpiexec() -> Path:
 
 
 def run(case: dict, folder: Path, ranks: int, *extra: str, resume: Path | None = None,
-        timeout: float = 900) -> subprocess.CompletedProcess:
+        timeout: float = 900, env: dict | None = None) -> subprocess.CompletedProcess:
     """`geompm run` of ``case`` into ``folder / 'run'`` (or ``--resume`` of the run folder ``resume``) on
     ``ranks`` processes (1: no launcher), one numba thread each; the finished process."""
     folder.mkdir(parents=True, exist_ok=True)
@@ -34,7 +34,7 @@ def run(case: dict, folder: Path, ranks: int, *extra: str, resume: Path | None =
     where = ["--resume", str(resume)] if resume is not None else ["--out", str(folder / "run")]
     cli = [sys.executable, "-m", "geompm.cli", "run", str(path), *where, "--quiet", *extra]
     cmd = cli if ranks == 1 else [str(mpiexec()), "-n", str(ranks), *cli]
-    env = dict(os.environ, NUMBA_NUM_THREADS="1")
+    env = dict(os.environ, NUMBA_NUM_THREADS="1", **(env or {}))
     return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
 
 
