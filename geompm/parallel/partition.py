@@ -2,8 +2,8 @@
 
 Rank r owns the cells ``cuts[r] <= i < cuts[r + 1]`` along the split axis (every cell across the other
 axes) and the particles in them; a particle outside the grid on that axis belongs to the first or last
-rank.  The cuts put about ``n / size`` particles in each slab: cut r is the first cell boundary below
-which at least ``r n / size`` particles lie, then moved apart to ``MIN_SLAB_CELLS`` cells.
+rank.  The cuts put about ``n / size`` particles in each slab: cut r is the cell boundary below which the
+number of particles is nearest to ``r n / size``, then moved apart to ``MIN_SLAB_CELLS`` cells.
 
 Why at least 4 cells: a particle in cell i writes nodes i - 1 .. i + 2 (the cubic B-spline's four; the
 linear hat and the quadratic B-spline write fewer), so a rank's grid window reaches one node below its slab
@@ -16,7 +16,10 @@ axis); a case periodic along every axis cannot be split.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+from numba import njit
 
 from geompm.errors import CaseError
 
@@ -59,7 +62,12 @@ def balanced_cuts(counts: np.ndarray, size: int, min_cells: int = MIN_SLAB_CELLS
     cuts = np.zeros(size + 1, np.int64)
     cuts[-1] = ncells
     for r in range(1, size):
-        cuts[r] = int(np.searchsorted(cum, r * total / size, side="left")) if total else r * ncells // size
+        if not total:
+            cuts[r] = r * ncells // size
+            continue
+        target = r * total / size
+        c = int(np.searchsorted(cum, target, side="left"))  # the first boundary with at least target below
+        cuts[r] = c - 1 if c > 0 and target - cum[c - 1] < cum[c] - target else c  # or the nearer one below
     for r in range(1, size):  # apart by min_cells from below, then leave room above
         cuts[r] = max(cuts[r], cuts[r - 1] + min_cells)
     for r in range(size - 1, 0, -1):
@@ -70,3 +78,21 @@ def balanced_cuts(counts: np.ndarray, size: int, min_cells: int = MIN_SLAB_CELLS
 def owners(cells: np.ndarray, cuts: np.ndarray) -> np.ndarray:
     """The rank that owns each cell index (int64)."""
     return np.searchsorted(cuts[1:-1], cells, side="right").astype(np.int64)
+
+
+@njit(cache=True)
+def particle_owners(p_x, axis, origin, inv_h, cuts, rank, owner):
+    """Each particle's rank into ``owner`` (n,) from its cell along the axis (outside the grid: the first
+    or last rank); returns how many belong to another rank than ``rank``.  One pass, no temporaries:
+    the check runs every step."""
+    size = cuts.shape[0] - 1
+    away = 0
+    for p in range(p_x.shape[0]):
+        c = math.floor((p_x[p, axis] - origin) * inv_h)
+        r = 0
+        while r < size - 1 and c >= cuts[r + 1]:
+            r += 1
+        owner[p] = r
+        if r != rank:
+            away += 1
+    return away

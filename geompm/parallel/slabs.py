@@ -29,7 +29,8 @@ from geompm.errors import CaseError, SimulationError
 from geompm.mpm.grid import window_extent
 from geompm.parallel import halo
 from geompm.parallel.migrate import canonical, merge, nparticles, pack
-from geompm.parallel.partition import balanced_cuts, check_rank_count, owners, particle_cells, split_axis
+from geompm.parallel.partition import (balanced_cuts, check_rank_count, owners, particle_cells, particle_owners,
+                                       split_axis)
 from geompm.parallel.whole import Whole
 
 def refuse_unsplittable(scene, size: int) -> None:
@@ -66,6 +67,7 @@ class Slabs(Whole):
         self.halo_bytes_sent = 0  # bytes sent to neighbours
         self.halo_sums = 0  # halo sums made
         self.rebalanced = 0
+        self._owner = np.empty(0, np.int64)  # each particle's rank, reused every step
 
     # -- particles -----------------------------------------------------------------------------
     def _cells(self, state):
@@ -85,14 +87,20 @@ class Slabs(Whole):
             if not (cuts == self.cuts).all():
                 self.cuts = cuts
                 self.rebalanced += 1
-        own = owners(self._cells(st), self.cuts)
+        g, a = self.spec, self.axis
+        if self._owner.shape[0] < st.n:
+            self._owner = np.empty(int(st.n * 1.25) + 16, np.int64)
+        own = self._owner[:st.n]
+        away = particle_owners(st.p_x, a, float(g.origin[a]), 1.0 / g.h, self.cuts, self.rank, own)
         out = [None] * self.size
-        for r in np.unique(own):
-            if r != self.rank:
+        if away:
+            for r in np.unique(own[own != self.rank]):
                 out[r] = pack(st, own == r)
                 self.sent_particles += nparticles(out[r])
         got = self.comm.exchange(out)
-        merge(st, own == self.rank, [p for r, p in enumerate(got) if r != self.rank])
+        arrived = [p for r, p in enumerate(got) if r != self.rank]
+        if away or any(nparticles(p) for p in arrived):
+            merge(st, own == self.rank, arrived)
 
     def gathered(self, state):
         import copy

@@ -10,7 +10,8 @@ from geompm.errors import CaseError
 from geompm.mpm.state import ParticleState
 from geompm.parallel import halo
 from geompm.parallel.migrate import canonical, merge, pack
-from geompm.parallel.partition import (MIN_SLAB_CELLS, balanced_cuts, check_rank_count, owners, split_axis)
+from geompm.parallel.partition import (MIN_SLAB_CELLS, balanced_cuts, check_rank_count, owners, particle_owners,
+                                       split_axis)
 
 
 def test_cuts_balance_particle_counts_and_keep_four_cells():
@@ -24,13 +25,20 @@ def test_cuts_balance_particle_counts_and_keep_four_cells():
         per = [counts[a:b].sum() for a, b in zip(cuts, cuts[1:])]
         assert max(per) - min(per) <= 2 * counts.max(), per
     packed = np.zeros(40, np.int64)
-    packed[20] = 1000  # every particle in cell 20: the first cut falls after it, the second 4 cells on
-    assert list(balanced_cuts(packed, 3)) == [0, 21, 25, 40]
+    packed[20] = 1000  # every particle in cell 20: the first cut falls before it (333 of 1000 is nearer 0
+    assert list(balanced_cuts(packed, 3)) == [0, 20, 24, 40]  # than 1000), the second 4 cells on
 
 
 def test_owners_follow_the_cuts_and_clip_outside_cells():
+    """A cell's owner from the cuts; a particle's from its cell, one outside the grid belonging to the
+    first or the last rank; the count of those another rank owns."""
     cuts = np.array([0, 5, 12, 30])
     assert list(owners(np.array([0, 4, 5, 11, 12, 29]), cuts)) == [0, 0, 1, 1, 2, 2]
+    h = 0.5
+    x = np.array([[-3.0, 0.0], [0.1, 1.0], [2.6, 0.0], [5.99, 0.0], [6.0, 0.0], [99.0, 0.0]])
+    own = np.empty(6, np.int64)
+    assert particle_owners(x, 0, 0.0, 1.0 / h, cuts, 1, own) == 4
+    assert list(own) == [0, 0, 1, 1, 2, 2]
 
 
 def test_split_axis_skips_periodic_axes_and_refuses_all_periodic():
