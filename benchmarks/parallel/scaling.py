@@ -22,8 +22,9 @@ import time
 from pathlib import Path
 
 
-def timed(obj, name, bucket):
-    """Wrap method ``name`` of ``obj`` so that its wall time adds to bucket[name]."""
+def timed(obj, name, bucket, calls):
+    """Wrap method ``name`` of ``obj`` so that its wall time adds to bucket[name] and its calls to
+    calls[name]."""
     inner = getattr(obj, name)
 
     def wrapper(*args, **kwargs):
@@ -32,6 +33,7 @@ def timed(obj, name, bucket):
             return inner(*args, **kwargs)
         finally:
             bucket[name] = bucket.get(name, 0.0) + time.perf_counter() - t
+            calls[name] = calls.get(name, 0) + 1
     setattr(obj, name, wrapper)
 
 
@@ -66,11 +68,12 @@ def main() -> None:
     for _ in range(args.warm):
         runner.advance(1e9)
     bucket: dict[str, float] = {}
+    calls: dict[str, int] = {}
     if comm is not None:
         for name in ("before_step", "window", "sum_halo", "stable_dt"):
-            timed(domain, name, bucket)
-        for name in ("sum", "max", "min", "rows", "gather", "exchange"):
-            timed(domain.comm, name, bucket)
+            timed(domain, name, bucket, calls)
+        for name in ("sum", "max", "min", "rows", "gather", "exchange", "swap"):
+            timed(domain.comm, name, bucket, calls)
         comm.barrier()
         before = domain.measured()
     t0 = time.perf_counter()
@@ -79,7 +82,8 @@ def main() -> None:
     wall = time.perf_counter() - t0
     n = sim.state.n
     mine = {"rank": domain.rank, "particles": n, "seconds_per_step": wall / args.steps,
-            "exchange_seconds_per_step": {k: v / args.steps for k, v in bucket.items()}}
+            "exchange_seconds_per_step": {k: v / args.steps for k, v in bucket.items()},
+            "calls_per_step": {k: v / args.steps for k, v in calls.items()}}
     if comm is not None:
         after = domain.measured()
         mine.update({k + "_per_step": (after[k] - before[k]) / args.steps

@@ -47,6 +47,8 @@ def step_explanation(scene) -> str:
     if not speeds:
         return text
     c, name, mat = max(speeds, key=lambda t: t[0])
+    if not c > 0.0:  # no wave at all (a modulus that underflows to a zero speed): nothing crosses a cell
+        return text
     stiff = getattr(mat.params, "youngs_modulus", None)
     detail = (f"E = {stiff:g} Pa, " if stiff is not None else "") + f"rho = {mat.density:g} kg/m3"
     return (f"{text}: the fastest wave is c = {c:.3g} m/s in material '{name}' ({detail}), so h = "
