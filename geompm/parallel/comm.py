@@ -55,6 +55,11 @@ class Serial:
         """``outgoing[r]`` goes to rank r; returns what each rank sent here, in rank order."""
         return list(outgoing)
 
+    def shift(self, up, down):
+        """Send ``up`` to rank + 1 and ``down`` to rank - 1 (Python objects; None: nothing); returns
+        (what rank - 1 sent up, what rank + 1 sent down), None at the ends."""
+        return None, None
+
     def swap(self, send, dest: int, recv, source: int) -> None:
         """Send the array ``send`` to rank ``dest`` while receiving rank ``source``'s into ``recv`` (either
         None: nothing that way); both sides know the sizes."""
@@ -120,6 +125,16 @@ class MpiComm(Serial):
     def exchange(self, outgoing):
         self.bytes_sent += sum(_nbytes(o) for r, o in enumerate(outgoing) if r != self.rank)
         return self.comm.alltoall(outgoing)
+
+    def shift(self, up, down):
+        from mpi4py import MPI
+
+        below = self.rank - 1 if self.rank > 0 else MPI.PROC_NULL
+        above = self.rank + 1 if self.rank < self.size - 1 else MPI.PROC_NULL
+        self.bytes_sent += _nbytes(up) + _nbytes(down)
+        from_below = self.comm.sendrecv(up, dest=above, source=below)
+        from_above = self.comm.sendrecv(down, dest=below, source=above)
+        return from_below, from_above
 
     def swap(self, send, dest, recv, source):
         from mpi4py import MPI

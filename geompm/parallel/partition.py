@@ -10,8 +10,9 @@ linear hat and the quadratic B-spline write fewer), so a rank's grid window reac
 and two above, and with slabs of 4 or more cells only neighbours' windows meet.  Every node is then summed
 from at most two ranks (parallel/halo.py), and each of the two adds the same two partial sums.
 
-The split axis is the one with the most cells among the axes that are not periodic (ties: the lower
-axis); a case periodic along every axis cannot be split.
+The split axis is, among the axes that are not periodic, the one along which the particles span the most
+cells at the start (the most slabs of particles, and the smallest halo across), then the one with the
+most grid cells; a case periodic along every axis cannot be split.
 """
 
 from __future__ import annotations
@@ -27,13 +28,16 @@ from geompm.errors import CaseError
 MIN_SLAB_CELLS = 4
 
 
-def split_axis(ncells, periodic_axes=()) -> int:
-    """The axis the slabs are cut along; CaseError when every axis is periodic."""
+def split_axis(ncells, periodic_axes=(), spans=None) -> int:
+    """The axis the slabs are cut along: of the axes that are not periodic, the one along which the
+    particles span the most cells (``spans``, (d,)), then the one with the most grid cells, then the
+    lowest; CaseError when every axis is periodic."""
     free = [a for a in range(len(ncells)) if a not in set(periodic_axes)]
     if not free:
         raise CaseError([("boundaries", "the case is periodic along every axis, so it cannot be cut into slabs "
                                         "for several MPI ranks; run it in one process")])
-    return max(free, key=lambda a: (int(ncells[a]), -a))
+    spans = np.zeros(len(ncells)) if spans is None else spans
+    return max(free, key=lambda a: (int(spans[a]), int(ncells[a]), -a))
 
 
 def check_rank_count(size: int, ncells_axis: int, axis: int) -> None:
@@ -83,10 +87,11 @@ def owners(cells: np.ndarray, cuts: np.ndarray) -> np.ndarray:
 @njit(cache=True)
 def particle_owners(p_x, axis, origin, inv_h, cuts, rank, owner):
     """Each particle's rank into ``owner`` (n,) from its cell along the axis (outside the grid: the first
-    or last rank); returns how many belong to another rank than ``rank``.  One pass, no temporaries:
-    the check runs every step."""
+    or last rank); returns (how many belong to another rank than ``rank``, how many to a rank that is
+    not a neighbour).  One pass, no temporaries: the check runs every step."""
     size = cuts.shape[0] - 1
     away = 0
+    far = 0
     for p in range(p_x.shape[0]):
         c = math.floor((p_x[p, axis] - origin) * inv_h)
         r = 0
@@ -95,4 +100,6 @@ def particle_owners(p_x, axis, origin, inv_h, cuts, rank, owner):
         owner[p] = r
         if r != rank:
             away += 1
-    return away
+            if r < rank - 1 or r > rank + 1:
+                far += 1
+    return away, far

@@ -54,7 +54,10 @@ class Slabs(Whole):
         g = scene.grid
         self.comm, self.size, self.rank = comm, comm.size, comm.rank
         self.spec = g
-        self.axis = split_axis(g.ncells, [a for s in scene.stages for a in s.periodic_axes()])
+        st = scene.state
+        spans = (np.floor((st.p_x.max(axis=0) - g.origin) / g.h) - np.floor((st.p_x.min(axis=0) - g.origin) / g.h)
+                 + 1) if st.n else None
+        self.axis = split_axis(g.ncells, [a for s in scene.stages for a in s.periodic_axes()], spans)
         self.ncells = int(g.ncells[self.axis])
         check_rank_count(self.size, self.ncells, self.axis)
         self.rebalance_every = int(scene.rebalance_interval)
@@ -81,24 +84,32 @@ class Slabs(Whole):
 
     def before_step(self, sim) -> None:
         st = sim.state
+        moved = False
         if self.rebalance_every and sim.step_count and sim.step_count % self.rebalance_every == 0:
             counts = self.comm.sum(np.bincount(self._cells(st), minlength=self.ncells).astype(np.float64))
             cuts = balanced_cuts(np.rint(counts).astype(np.int64), self.size)
             if not (cuts == self.cuts).all():
                 self.cuts = cuts
                 self.rebalanced += 1
+                moved = True
         g, a = self.spec, self.axis
         if self._owner.shape[0] < st.n:
             self._owner = np.empty(int(st.n * 1.25) + 16, np.int64)
         own = self._owner[:st.n]
-        away = particle_owners(st.p_x, a, float(g.origin[a]), 1.0 / g.h, self.cuts, self.rank, own)
-        out = [None] * self.size
-        if away:
-            for r in np.unique(own[own != self.rank]):
-                out[r] = pack(st, own == r)
-                self.sent_particles += nparticles(out[r])
-        got = self.comm.exchange(out)
-        arrived = [p for r, p in enumerate(got) if r != self.rank]
+        away, far = particle_owners(st.p_x, a, float(g.origin[a]), 1.0 / g.h, self.cuts, self.rank, own)
+        if self.comm.max([float(far or moved)])[0] > 0.0:  # after a rebalance: anyone to anyone
+            out = [None] * self.size
+            if away:
+                for r in np.unique(own[own != self.rank]):
+                    out[r] = pack(st, own == r)
+            got = self.comm.exchange(out)
+            arrived = [p for r, p in enumerate(got) if r != self.rank]
+        else:  # a step moves a particle less than a cell, and a slab is 4 cells: to a neighbour only
+            down, up = (pack(st, own == r) if away and (own == r).any() else None
+                        for r in (self.rank - 1, self.rank + 1))
+            out = [down, up]
+            arrived = list(self.comm.shift(up, down))
+        self.sent_particles += sum(nparticles(p) for p in out)
         if away or any(nparticles(p) for p in arrived):
             merge(st, own == self.rank, arrived)
 

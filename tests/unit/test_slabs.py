@@ -37,14 +37,17 @@ def test_owners_follow_the_cuts_and_clip_outside_cells():
     h = 0.5
     x = np.array([[-3.0, 0.0], [0.1, 1.0], [2.6, 0.0], [5.99, 0.0], [6.0, 0.0], [99.0, 0.0]])
     own = np.empty(6, np.int64)
-    assert particle_owners(x, 0, 0.0, 1.0 / h, cuts, 1, own) == 4
+    assert particle_owners(x, 0, 0.0, 1.0 / h, cuts, 1, own) == (4, 0)
     assert list(own) == [0, 0, 1, 1, 2, 2]
+    assert particle_owners(x, 0, 0.0, 1.0 / h, cuts, 0, own) == (4, 2)  # two are beyond the neighbour
 
 
 def test_split_axis_skips_periodic_axes_and_refuses_all_periodic():
     assert split_axis([100, 40, 60]) == 0
     assert split_axis([100, 40, 60], periodic_axes=[0]) == 2
     assert split_axis([50, 50]) == 0
+    assert split_axis([64, 64, 64], spans=[26, 38, 26]) == 1  # dp3d's block is longest along y
+    assert split_axis([64, 64, 64], periodic_axes=[1], spans=[26, 38, 26]) == 0
     with pytest.raises(CaseError, match="periodic along every axis"):
         split_axis([10, 10], periodic_axes=[0, 1])
 
