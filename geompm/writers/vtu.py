@@ -1,5 +1,9 @@
 """ParaView output: ``particles/particles_NNNNNN.vtu`` per output time plus ``particles.pvd``.
 
+On several MPI ranks each rank writes its particles to ``particles/pieces/particles_NNNNNN_rankRRRR.vtu``
+and rank 0 writes ``particles/particles_NNNNNN.pvtu`` over them, which the PVD lists: ParaView opens each
+output time as one dataset (docs/parallel.md).
+
 Point data (SI units): velocity (3) [m/s], displacement (3) [m],
 stress (6: xx, yy, zz, xy, yz, xz) [Pa, tension positive],
 mean_stress_p = -tr(sigma)/3 [Pa, compression positive], von_mises_q [Pa],
@@ -104,32 +108,73 @@ def particle_fields(sim) -> dict[str, np.ndarray]:
     return fields
 
 
+#: VTK's names of the numpy types the particle fields take
+VTK_TYPES = {"float64": "Float64", "float32": "Float32", "int64": "Int64", "int32": "Int32", "uint8": "UInt8"}
+
+
 class VtuWriter(Writer):
     name = "vtu"
-    files = ("particles.pvd", "particles/particles_*.vtu")
+    files = ("particles.pvd", "particles/particles_*.vtu", "particles/particles_*.pvtu", "particles/pieces/*.vtu")
     description = "ParaView particle series: one VTU per output time and a PVD index"
     Params = VtuParams
+    #: in one process one VTU per output time; on several MPI ranks each rank writes its particles as a
+    #: piece and rank 0 a parallel VTU (.pvtu) that ParaView opens as one dataset (docs/parallel.md)
+    ranks = "own"
 
     def open(self, run_dir, sim):
         self.dir = run_dir / "particles"
         self.dir.mkdir(parents=True, exist_ok=True)
         self.pvd = run_dir / "particles.pvd"
         self.entries: list[tuple[float, str]] = []
+        self.root = sim.domain.comm.is_root
 
-    def write(self, sim):
+    def _mesh_file(self, sim, path) -> dict:
+        """The particles of ``sim.state`` as a VTU at ``path``; their point data."""
         import meshio
 
         st = sim.state
-        k = len(self.entries)
-        fname = f"particles_{k:06d}.vtu"
-        mesh = meshio.Mesh(_pad3(st.p_x), [("vertex", np.arange(st.n).reshape(-1, 1))],
-                           point_data=particle_fields(sim))
-        with atomic_path(self.dir / fname) as tmp:
+        fields = particle_fields(sim)
+        mesh = meshio.Mesh(_pad3(st.p_x), [("vertex", np.arange(st.n).reshape(-1, 1))], point_data=fields)
+        with atomic_path(path) as tmp:
             meshio.write(tmp, mesh, file_format="vtu", binary=self.params.binary)
             if sim.scene.crs:
                 add_text_field(tmp, "crs", sim.scene.crs)
+        return fields
+
+    def write(self, sim):
+        comm = sim.domain.comm
+        k = len(self.entries)
+        if comm.size == 1:
+            fname = f"particles_{k:06d}.vtu"
+            self._mesh_file(sim, self.dir / fname)
+        else:
+            fname = f"particles_{k:06d}.pvtu"
+            piece = f"pieces/particles_{k:06d}_rank{comm.rank:04d}.vtu"
+            (self.dir / "pieces").mkdir(exist_ok=True)
+            fields = self._mesh_file(sim, self.dir / piece)
+            held = comm.gather(sim.state.n)
+            if comm.is_root:
+                names = [f"pieces/particles_{k:06d}_rank{r:04d}.vtu" for r, n in enumerate(held) if n] or [piece]
+                self._write_pvtu(self.dir / fname, fields, _pad3(sim.state.p_x).dtype, names)
         self.entries.append((sim.time, f"particles/{fname}"))
-        self._write_pvd()
+        if self.root:
+            self._write_pvd()
+
+    @staticmethod
+    def _write_pvtu(path, fields: dict, point_type, pieces) -> None:
+        """The parallel VTU over the ranks' pieces: every point array's name, type and width, then the
+        pieces in rank order (VTK's PUnstructuredGrid format)."""
+        arrays = "\n".join(
+            f'      <PDataArray type="{VTK_TYPES[a.dtype.name]}" Name="{name}" '
+            f'NumberOfComponents="{a.shape[1] if a.ndim == 2 else 1}"/>' for name, a in fields.items())
+        listed = "\n".join(f'    <Piece Source="{p}"/>' for p in pieces)
+        atomic_write_text(path, '<?xml version="1.0"?>\n'
+                          '<VTKFile type="PUnstructuredGrid" version="0.1" byte_order="LittleEndian">\n'
+                          '  <PUnstructuredGrid GhostLevel="0">\n'
+                          f'    <PPointData>\n{arrays}\n    </PPointData>\n'
+                          f'    <PPoints>\n      <PDataArray type="{VTK_TYPES[np.dtype(point_type).name]}" '
+                          'NumberOfComponents="3"/>\n    </PPoints>\n'
+                          f'{listed}\n  </PUnstructuredGrid>\n</VTKFile>\n')
 
     def _write_pvd(self):
         rows = "\n".join(f'    <DataSet timestep="{t:.10g}" group="" part="0" file="{f}"/>'
@@ -144,4 +189,5 @@ class VtuWriter(Writer):
         """Keep the files listed at the checkpoint; later ones are overwritten as the run repeats them."""
         self.open(run_dir, sim)
         self.entries = [tuple(e) for e in state["entries"]]
-        self._write_pvd()
+        if self.root:
+            self._write_pvd()
