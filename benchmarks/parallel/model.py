@@ -48,7 +48,7 @@ def main(folder: Path) -> None:
     two = [json.loads(p.read_text()) for p in sorted(folder.glob("dp3d_r2_*.json"))]
     rank0 = two[0]["per_rank"][0]
     k = sum(v for name, v in rank0["calls_per_step"].items() if name in ("sum", "max", "min", "rows", "gather"))
-    b_204k = rank0["bytes_sent_per_step"] / 2.0  # per neighbour (two ranks: one neighbour, one swap each way)
+    b_204k = rank0["bytes_sent_per_step"]  # on two ranks each rank has one neighbour: the bytes to it
     costs = json.loads((folder / "comm_costs.json").read_text())["seconds_per_call"]
     o_coll = statistics.mean(costs[name] for name in ("sum of 4 numbers", "rows (1, 20)"))
     o_swap = next(v for name, v in costs.items() if name.startswith("swap"))
@@ -57,6 +57,32 @@ def main(folder: Path) -> None:
                 "o_coll_us": o_coll * 1e6, "o_swap_us": o_swap * 1e6, "o_shift_us": o_shift * 1e6,
                 "speedup_2_ranks": {lab: median_step(folder, lab, 1) / median_step(folder, lab, 2)
                                     for lab in ("dp3d", "mainjob", "mainjob_h025")}}
+    layers_204k = round(0.6 * 64)
+
+    def step(n, layers, halo, p):
+        """(step time, its compute part) of P ranks by the model of the module docstring."""
+        busy = min(p, layers // 4)
+        comp = t_p * n / busy * (1 + busy / (2 * layers)) + f
+        t_halo = 2 * (o_swap * halo / b_204k + ALPHA + halo / BETA)
+        t_coll = k * (o_coll + ALPHA * math.ceil(math.log2(p)) + p * M_BYTES / BETA)
+        return comp + t_halo + t_coll + 2 * (o_shift + ALPHA), comp, busy
+
+    measured["dp3d_2_ranks_ms"] = {"measured_median": median_step(folder, "dp3d", 2) * 1e3,
+                                   "measured_all": [json.loads(p.read_text())["seconds_per_step"] * 1e3
+                                                    for p in sorted(folder.glob("dp3d_r2_*.json"))],
+                                   "model_loopback": step(n_big, layers_204k, b_204k, 2)[0] * 1e3}
+    def blocks(n, side, p):
+        """The same model for a 3D block partition (not built; what the slabs' limit costs): the particles'
+        box (0.4 x 0.6 x 0.4 of the cube) cut into p blocks, each swapping 3 node layers of its six faces
+        with its neighbours (26 messages, edges and corners included)."""
+        cells = [0.4 * side, 0.6 * side, 0.4 * side]
+        per = [c / round(p ** (1 / 3)) for c in cells]
+        faces = 2 * (per[0] * per[1] + per[1] * per[2] + per[0] * per[2])
+        halo = 3 * faces * 4 * 8
+        comp = t_p * n / p * 1.05 + f
+        return comp + 26 * (o_swap * halo / 26 / b_204k + ALPHA) + halo / BETA \
+            + k * (o_coll + ALPHA * math.ceil(math.log2(p)) + p * M_BYTES / BETA) + 26 * (o_shift + ALPHA)
+
     scenes = {"1.6M (dp3d, 128 cells per side)": (1.6e6, 128), "13M (dp3d, 256 cells per side)": (13.1e6, 256)}
     rows = []
     for name, (n, side) in scenes.items():
@@ -64,21 +90,18 @@ def main(folder: Path) -> None:
         halo = b_204k * (side / 64) ** 2
         t1 = t_p * n + f
         for p in (2, 8, 64, 512):
-            busy = min(p, layers // 4)
-            comp = t_p * n / busy * (1 + busy / (2 * layers)) + f
-            t_halo = 2 * (o_swap * halo / b_204k + ALPHA + halo / BETA)
-            t_coll = k * (o_coll + ALPHA * math.ceil(math.log2(p)) + p * M_BYTES / BETA)
-            t_migr = 2 * (o_shift + ALPHA)
-            t = comp + t_halo + t_coll + t_migr
+            t, comp, busy = step(n, layers, halo, p)
             rows.append({"scene": name, "ranks": p, "busy_ranks": busy, "step_ms": t * 1e3,
                          "compute_ms": comp * 1e3, "exchange_ms": (t - comp) * 1e3,
-                         "halo_bytes_per_rank": 2 * halo, "efficiency": t1 / (p * t)})
+                         "halo_bytes_per_rank": 2 * halo, "efficiency": t1 / (p * t),
+                         "blocks_efficiency_not_built": t1 / (p * blocks(n, side, p))})
     out = {"measured": measured, "network": {"alpha_s": ALPHA, "beta_bytes_per_s": BETA}, "projection": rows}
     (folder / "model.json").write_text(json.dumps(out, indent=1))
     print(json.dumps(measured, indent=1))
     for r in rows:
         print(f"{r['scene']:34s} P={r['ranks']:4d} busy={r['busy_ranks']:3d} step={r['step_ms']:8.2f} ms "
-              f"(exchange {r['exchange_ms']:.2f} ms) halo {r['halo_bytes_per_rank'] / 1e6:.2f} MB E={r['efficiency']:.2f}")
+              f"(exchange {r['exchange_ms']:.2f} ms) halo {r['halo_bytes_per_rank'] / 1e6:.2f} MB E={r['efficiency']:.2f}"
+              f" (3D blocks, not built: {r['blocks_efficiency_not_built']:.2f})")
 
 
 if __name__ == "__main__":

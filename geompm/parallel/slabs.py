@@ -71,6 +71,7 @@ class Slabs(Whole):
         self.halo_sums = 0  # halo sums made
         self.rebalanced = 0
         self._owner = np.empty(0, np.int64)  # each particle's rank, reused every step
+        self._held = 0  # particles this rank holds (after the last migration)
 
     # -- particles -----------------------------------------------------------------------------
     def _cells(self, state):
@@ -81,6 +82,7 @@ class Slabs(Whole):
         cells = self._cells(state)
         self.cuts = balanced_cuts(np.bincount(cells, minlength=self.ncells), self.size)
         merge(state, owners(cells, self.cuts) == self.rank, [])
+        self._held = state.n
 
     def before_step(self, sim) -> None:
         st = sim.state
@@ -112,6 +114,7 @@ class Slabs(Whole):
         self.sent_particles += sum(nparticles(p) for p in out)
         if away or any(nparticles(p) for p in arrived):
             merge(st, own == self.rank, arrived)
+        self._held = st.n
 
     def gathered(self, state):
         import copy
@@ -206,13 +209,15 @@ class Slabs(Whole):
         traffic of every rank."""
         sent = self.comm.gather(self.measured())
         return {"ranks": self.size, "split_axis": "xyz"[self.axis], "cuts": [int(c) for c in self.cuts],
+                "particles_per_rank": [int(m["particles"]) for m in sent],
                 "rebalanced": self.rebalanced, "particles_migrated": sum(m["sent_particles"] for m in sent),
                 "halo_bytes_sent_per_rank": [int(m["bytes_sent"]) for m in sent],
                 "halo_sums": self.halo_sums}
 
     def measured(self) -> dict:
-        """This rank's traffic so far: particles sent, halo sums, halo nodes and bytes sent."""
-        return {"sent_particles": self.sent_particles, "halo_sums": self.halo_sums,
+        """This rank's particles now and its traffic so far: particles sent, halo sums, halo nodes and
+        bytes sent."""
+        return {"particles": self._held, "sent_particles": self.sent_particles, "halo_sums": self.halo_sums,
                 "halo_nodes": self.halo_nodes, "halo_bytes": self.halo_bytes,
                 "bytes_sent": self.halo_bytes_sent, "all_bytes_sent": getattr(self.comm, "bytes_sent", 0)}
 

@@ -54,14 +54,26 @@ def main_job() -> dict:
     s, c = 2.0, np.array([0.819152, -0.573576])
     body["geometry"]["vertices"] = [list(np.round(np.array(v) + s * c, 6)) for v in body["geometry"]["vertices"]]
     body["velocity"] = [4.0 * c[0], 4.0 * c[1], 0.0]
-    case["outputs"] = [o for o in case["outputs"] if o["writer"] == "series"]
+    case["outputs"] = [o for o in case["outputs"] if o["writer"] in ("series", "surfaces")]
     return _absolute(case, "debris_obstacle")
+
+
+def periodic_slope() -> dict:
+    """An infinite slope (tests/support/slopes.py: Drucker-Prager, 20 degrees, periodic along x, local
+    damping) under a water table at its surface with slope-parallel seepage, 0.05 m cells: the slabs are
+    cut along y, the one axis that is not periodic, and every rank's window holds the periodic ghosts."""
+    from tests.support.slopes import saturated_infinite_slope_case
+
+    case = saturated_infinite_slope_case(0.05, end=0.06)
+    case["outputs"] = [{"writer": "series", "interval": 0.0, "displacement": True}]
+    return case
 
 
 SCENES = {
     "dam_break": lambda: _case("dam_break", **{"time.end": 0.0086}),
     "dp_column": lambda: _case("column_collapse", **{"time.end": 0.038}),
     "main_job": main_job,
+    "periodic_slope": periodic_slope,
     "terrain": lambda: _absolute(_case("terrain_debris_flow", **{"time.end": 3.6, "grid.cell_size": 2.0}),
                                  "terrain_debris_flow"),
 }
@@ -105,9 +117,23 @@ def test_main_job_against_the_stl_dam_on_two_and_three_ranks_matches_one_process
     moment (series dam_fx ... dam_mz, grid contact plus the guard's corrections) summed over the ranks
     match the one-process history, and the dam was hit (a nonzero peak force)."""
     found = _same_answers("main_job", tmp_path)
+    one = json.loads((tmp_path / "r1" / "run" / "status.json").read_text())["obstacles"]["dam"]
+    for ranks in (2, 3):
+        dam = json.loads((tmp_path / f"r{ranks}" / "run" / "status.json").read_text())["obstacles"]["dam"]
+        assert dam["peak_force"] > 0.0 and found[ranks]["series.dam_fx"] <= BOUND
+        # the face pressures (the surfaces writer's) summed over the ranks: the same hot spot
+        assert abs(dam["peak_pressure"] - one["peak_pressure"]) <= BOUND * one["peak_pressure"]
+        assert dam["peak_pressure_at"] == one["peak_pressure_at"]
+
+
+@pytest.mark.slow
+def test_periodic_slope_under_a_water_table_on_two_and_three_ranks_matches_one_process(tmp_path):
+    """The periodic infinite slope under a water table (periodic along x, so the slabs are cut along y):
+    periodic ghost nodes merged in every rank's window, local damping, the water table's pore pressure per
+    particle and its work in the health check's energy budget; displacements in the series."""
+    found = _same_answers("periodic_slope", tmp_path)
     status = json.loads((tmp_path / "r3" / "run" / "status.json").read_text())
-    assert status["obstacles"]["dam"]["peak_force"] > 0.0
-    assert found[3]["series.dam_fx"] <= BOUND
+    assert status["mpi"]["split_axis"] == "y" and found[3]["series.max_displacement"] <= BOUND
 
 
 @pytest.mark.slow
