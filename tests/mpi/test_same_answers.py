@@ -59,12 +59,14 @@ def main_job() -> dict:
 
 
 def periodic_slope() -> dict:
-    """An infinite slope (tests/support/slopes.py: Drucker-Prager, 20 degrees, periodic along x, local
-    damping) under a water table at its surface with slope-parallel seepage, 0.05 m cells: the slabs are
-    cut along y, the one axis that is not periodic, and every rank's window holds the periodic ghosts."""
-    from tests.support.slopes import saturated_infinite_slope_case
+    """The infinite slope under a rising water table (tests/support/slopes.rising_table_case: Drucker-Prager,
+    20 degrees, periodic along x, geostatic effective stress, artificial damping), 0.05 m cells: the slabs
+    are cut along y, the one axis that is not periodic, and every rank's window holds the periodic ghosts.
+    (Cundall's local damping is left out: on a body at rest it takes the sign of velocities of round-off
+    size, and one process on 1 and on 2 threads already differs by 3e-3 after 4 steps; docs/parallel.md.)"""
+    from tests.support.slopes import rising_table_case
 
-    case = saturated_infinite_slope_case(0.05, end=0.06)
+    case = rising_table_case(0.05, rise=(0.0, 0.4, 0.1, 1.0), end=0.11)
     case["outputs"] = [{"writer": "series", "interval": 0.0, "displacement": True}]
     return case
 
@@ -128,9 +130,9 @@ def test_main_job_against_the_stl_dam_on_two_and_three_ranks_matches_one_process
 
 @pytest.mark.slow
 def test_periodic_slope_under_a_water_table_on_two_and_three_ranks_matches_one_process(tmp_path):
-    """The periodic infinite slope under a water table (periodic along x, so the slabs are cut along y):
-    periodic ghost nodes merged in every rank's window, local damping, the water table's pore pressure per
-    particle and its work in the health check's energy budget; displacements in the series."""
+    """The periodic infinite slope under a rising water table (periodic along x, so the slabs are cut along
+    y): periodic ghost nodes merged in every rank's window, the water table's pore pressure per particle
+    and its work in the health check's energy budget; displacements in the series."""
     found = _same_answers("periodic_slope", tmp_path)
     status = json.loads((tmp_path / "r3" / "run" / "status.json").read_text())
     assert status["mpi"]["split_axis"] == "y" and found[3]["series.max_displacement"] <= BOUND
