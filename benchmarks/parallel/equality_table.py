@@ -29,7 +29,7 @@ def main(out: Path) -> None:
             done = mpi.run(case, out / name / f"r{ranks}", ranks)
             assert done.returncode == 0, done.stderr
             diff = mpi.differences(one, out / name / f"r{ranks}" / "run")
-            fields = {k: diff[k] for k in mpi.FIELDS}
+            fields = {k: diff[k] for k in (*mpi.FIELDS, "p_u")}
             worst_series = max((k for k in diff if k.startswith("series.")), key=diff.get)
             status = json.loads((out / name / f"r{ranks}" / "run" / "status.json").read_text())
             rows.append({"scene": name, "ranks": ranks, "steps": meta["step"], "particles": status["particles"],

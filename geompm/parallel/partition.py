@@ -10,9 +10,11 @@ linear hat and the quadratic B-spline write fewer), so a rank's grid window reac
 and two above, and with slabs of 4 or more cells only neighbours' windows meet.  Every node is then summed
 from at most two ranks (parallel/halo.py), and each of the two adds the same two partial sums.
 
-The split axis is, among the axes that are not periodic, the one along which the particles span the most
-cells at the start (the most slabs of particles, and the smallest halo across), then the one with the
-most grid cells; a case periodic along every axis cannot be split.
+The split axis is, among the axes that are not periodic, the one with the most grid cells (a grid is
+drawn long where the flow runs out: a dam break's water, 20 cells wide and 40 high at the start, ends as
+a layer 120 cells long and 5 high, and slabs cut across its height would leave one rank most of it), then
+the one along which the particles span the most cells at the start (the most slabs of particles, and the
+smallest halo across); a case periodic along every axis cannot be split.
 """
 
 from __future__ import annotations
@@ -29,15 +31,15 @@ MIN_SLAB_CELLS = 4
 
 
 def split_axis(ncells, periodic_axes=(), spans=None) -> int:
-    """The axis the slabs are cut along: of the axes that are not periodic, the one along which the
-    particles span the most cells (``spans``, (d,)), then the one with the most grid cells, then the
+    """The axis the slabs are cut along: of the axes that are not periodic, the one with the most grid
+    cells, then the one along which the particles span the most cells (``spans``, (d,)), then the
     lowest; CaseError when every axis is periodic."""
     free = [a for a in range(len(ncells)) if a not in set(periodic_axes)]
     if not free:
         raise CaseError([("boundaries", "the case is periodic along every axis, so it cannot be cut into slabs "
                                         "for several MPI ranks; run it in one process")])
     spans = np.zeros(len(ncells)) if spans is None else spans
-    return max(free, key=lambda a: (int(spans[a]), int(ncells[a]), -a))
+    return max(free, key=lambda a: (int(ncells[a]), int(spans[a]), -a))
 
 
 def check_rank_count(size: int, ncells_axis: int, axis: int) -> None:

@@ -46,8 +46,9 @@ def test_split_axis_skips_periodic_axes_and_refuses_all_periodic():
     assert split_axis([100, 40, 60]) == 0
     assert split_axis([100, 40, 60], periodic_axes=[0]) == 2
     assert split_axis([50, 50]) == 0
-    assert split_axis([64, 64, 64], spans=[26, 38, 26]) == 1  # dp3d's block is longest along y
+    assert split_axis([64, 64, 64], spans=[26, 38, 26]) == 1  # dp3d: a cube, its block longest along y
     assert split_axis([64, 64, 64], periodic_axes=[1], spans=[26, 38, 26]) == 0
+    assert split_axis([120, 50], spans=[20, 40]) == 0  # the dam break: along the runout
     with pytest.raises(CaseError, match="periodic along every axis"):
         split_axis([10, 10], periodic_axes=[0, 1])
 
