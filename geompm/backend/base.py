@@ -72,6 +72,11 @@ class Backend:
         return self.window_at(*window_extent(self.scene.grid, self.particle_cells(),
                                              lambda: self.host_state().p_x))
 
+    def joined(self, rows, slots: int):
+        """A pass's accumulator rows with every rank's stacked (comm.rows); a stage that declares no
+        reduction (``slots`` 0) gets its own rows back and no rank waits for another."""
+        return self.domain.comm.rows(rows) if slots else rows
+
     def particle_cells(self):
         """Per axis the lowest and highest cell of the particles, (2, d) int64 (kernels/reduce.cell_bounds),
         or None without particles."""

@@ -190,7 +190,7 @@ class CpuBackend(Backend):
             into = out if counted else plan.setdefault("node_spill", np.zeros_like(out))
             loop(prm, aux, dt, g.origin, g.h, view.lo, view.nloc, f_box, l_box, view.g_mass, view.g_vel, v_old,
                  f, plan["node_work"], into)
-        stage.grid_reduced(self.domain.comm.rows(out), dt, time, remap)
+        stage.grid_reduced(self.joined(out, stage.node_reduction), dt, time, remap)
 
     def particle_stages(self, stages, dt: float, time: float) -> None:
         """Every particle stage in order.  After a G2P that moved the particles, a stage whose
@@ -206,7 +206,7 @@ class CpuBackend(Backend):
                 if reach is None:
                     out = self._plan_of(stage)["particle_out"]
                     out.fill(0.0)
-                    stage.particle_reduced(self.domain.comm.rows(out), dt, time)
+                    stage.particle_reduced(self.joined(out, stage.particle_reduction), dt, time)
                     continue
                 box = reach if np.isfinite(reach[0]).all() and np.isfinite(reach[1]).all() else None
             self._particle_pass(stage, args, dt, time)
@@ -226,5 +226,5 @@ class CpuBackend(Backend):
             s, e = st.blocks[k]
             if e > s:
                 loop(prm, aux, dt, k, s, e, st.p_x, st.p_x0, st.p_v, st.p_C, st.p_mass, st.p_stress, work, out)
-        stage.particle_reduced(self.domain.comm.rows(out), dt, time)
+        stage.particle_reduced(self.joined(out, stage.particle_reduction), dt, time)
 

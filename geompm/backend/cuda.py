@@ -274,7 +274,7 @@ class CudaBackend(Backend):
                 self._origin, self.scene.grid.h, lo, nloc, cuda.to_device(b0.astype(np.int64)),
                 cuda.to_device(bn.astype(np.int64)), total, view.g_mass, view.g_vel, v_old, f,
                 out if counted else spill)
-        stage.grid_reduced(self.domain.comm.rows(out.copy_to_host().reshape(1, slots)), dt, time, remap)
+        stage.grid_reduced(self.joined(out.copy_to_host().reshape(1, slots), stage.node_reduction), dt, time, remap)
 
     def particle_stage(self, stage, dt: float, time: float) -> None:
         args = stage.particle_args(dt, time)
@@ -291,5 +291,6 @@ class CudaBackend(Backend):
             if e > s:
                 kern[K.blocks(e - s), K.THREADS](prm, aux, dt, k, s, e, dev["p_x"], dev["p_x0"], dev["p_v"],
                                                  dev["p_C"], dev["p_mass"], dev["p_stress"], out)
-        stage.particle_reduced(self.domain.comm.rows(out.copy_to_host().reshape(1, slots)), dt, time)
+        stage.particle_reduced(self.joined(out.copy_to_host().reshape(1, slots), stage.particle_reduction), dt,
+                               time)
 

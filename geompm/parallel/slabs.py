@@ -140,7 +140,9 @@ class Slabs(Whole):
     def window(self, backend):
         spec, a = self.spec, self.axis
         mine = backend.particle_cells()
-        every = self.comm.gather(mine)
+        d = spec.dim
+        rows = self.comm.stack(np.full(2 * d, np.nan) if mine is None else mine.reshape(-1))
+        every = [None if np.isnan(row[0]) else row.reshape(2, d).astype(np.int64) for row in rows]
         bad = [r for r, b in enumerate(every) if b is not None and ((b[0] < -1).any() or (b[1] > spec.ncells).any())]
         if bad:
             message = None
