@@ -26,7 +26,9 @@ scene() {  # label case steps [sets...]
 scene dp3d "$root/benchmarks/dp3d.json" 60
 scene mainjob "$root/cases/debris_obstacle.json" 150
 scene mainjob_h025 "$root/cases/debris_obstacle.json" 80 grid.cell_size=0.025
-one "$root/benchmarks/dp3d.json" "$out/dp3d26k_r1_1.json" --steps 150 --set grid.cell_size=0.03125
+for round in 1 2 3; do
+  one "$root/benchmarks/dp3d.json" "$out/dp3d26k_r1_$round.json" --steps 150 --set grid.cell_size=0.03125
+done
 "$mpiexec" -n 2 python "$here/comm_costs.py" "$out/comm_costs.json"
 "$mpiexec" -n 2 python "$here/comm_costs.py" "$out/comm_costs_swap_halo_dp3d128.json" --bytes 500000
 lscpu | grep -E "Model name|^CPU\(s\)" > "$out/machine.txt"

@@ -14,7 +14,7 @@ The step time of P ranks, one core each (Hockney's t = alpha + m / beta for ever
 t_p [s per particle-step] and f [s per step] come from one rank at two sizes (dp3d at 26k and 204k
 particles); o_swap, o_coll, o_shift are mpi4py's cost per call measured on this machine's loopback
 (comm_costs.py; they include its latency, so the network's alpha is added on top); k is the collectives
-per step counted in the 2-rank runs; B the halo bytes per neighbour, measured at 204k (3 node layers of
+per step counted in the 2-rank runs (plus the runner loop's two); B the halo bytes per neighbour, measured at 204k (3 node layers of
 the window's cross-section, 4 values per node) and scaled with the cross-section (h^-2); m = 160 bytes.
 Slabs hold at least 4 cells and the cuts follow the particles, so only P_busy = min(P, L / 4) ranks hold
 particles (L: the cell layers the particles span along the split axis); i(P) = P_busy / (2 L) is the
@@ -41,13 +41,17 @@ def median_step(folder: Path, label: str, ranks: int) -> float:
 def main(folder: Path) -> None:
     big = json.loads(next(folder.glob("dp3d_r1_*.json")).read_text())
     small = json.loads((folder / "dp3d26k_r1_1.json").read_text())
-    t_big, t_small = median_step(folder, "dp3d", 1), small["seconds_per_step"]
+    t_big, t_small = median_step(folder, "dp3d", 1), median_step(folder, "dp3d26k", 1)
     n_big, n_small = big["particles"], small["particles"]
     t_p = (t_big - t_small) / (n_big - n_small)
     f = t_small - t_p * n_small
     two = [json.loads(p.read_text()) for p in sorted(folder.glob("dp3d_r2_*.json"))]
     rank0 = two[0]["per_rank"][0]
-    k = sum(v for name, v in rank0["calls_per_step"].items() if name in ("sum", "max", "min", "rows", "gather"))
+    calls = rank0["calls_per_step"]
+    # the window's bounds (comm.stack, counted from measure.sh's second run on) and the runner loop's
+    # particle count and stop check (run(), not advance(): two more per step)
+    k = sum(v for name, v in calls.items() if name in ("sum", "max", "min", "rows", "gather", "stack")) \
+        + (0 if "stack" in calls else 1) + 2
     b_204k = rank0["bytes_sent_per_step"]  # on two ranks each rank has one neighbour: the bytes to it
     costs = json.loads((folder / "comm_costs.json").read_text())["seconds_per_call"]
     o_coll = statistics.mean(costs[name] for name in ("sum of 4 numbers", "rows (1, 20)"))

@@ -72,7 +72,7 @@ def main() -> None:
     if comm is not None:
         for name in ("before_step", "window", "sum_halo", "stable_dt"):
             timed(domain, name, bucket, calls)
-        for name in ("sum", "max", "min", "rows", "gather", "exchange", "swap"):
+        for name in ("sum", "max", "min", "rows", "gather", "stack", "exchange", "swap", "shift"):
             timed(domain.comm, name, bucket, calls)
         comm.barrier()
         before = domain.measured()
