@@ -57,3 +57,36 @@ def test_slabs_rebalance_as_the_column_spreads(tmp_path):
     assert all(b - a >= 4 for a, b in zip(cuts, cuts[1:]))
     diff = mpi.differences(tmp_path / "one" / "run", tmp_path / "three" / "run")
     assert max(diff.values()) <= BOUND
+
+
+def test_ctrl_c_to_mpiexec_stops_every_rank_after_one_checkpoint(tmp_path):
+    """SIGINT to mpiexec (MPICH forwards it to the ranks): the ranks agree at the end of a step to stop,
+    write one checkpoint and exit with 130 as one process does; the run resumes on one rank from it."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    case = _case("dam_break", **{"time.end": 0.25})
+    (tmp_path / "case.json").write_text(json.dumps(case))
+    run = tmp_path / "run"
+    cmd = [str(mpi.mpiexec()), "-n", "2", sys.executable, "-m", "geompm.cli", "run", str(tmp_path / "case.json"),
+           "--out", str(run), "--quiet"]
+    proc = subprocess.Popen(cmd, env=dict(os.environ, NUMBA_NUM_THREADS="1"), stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 300
+    while not ((run / "series.csv").is_file() and len((run / "series.csv").read_text().splitlines()) > 5):
+        assert proc.poll() is None and time.monotonic() < deadline, "the run ended before it could be stopped"
+        time.sleep(0.2)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, out + err
+    assert "stopped by SIGINT" in out and "--resume" in out
+    assert len(list((run / "checkpoints").glob("step_*.npz"))) == 1
+    status = json.loads((run / "status.json").read_text())
+    assert not status["finished"] and status["reason"] == "stopped by SIGINT"
+    _, meta = mpi.final_state(run)
+    done = mpi.run(case, tmp_path, 1, "--set", f"time.end={meta['time'] + 0.002}", resume=run)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert json.loads((run / "status.json").read_text())["finished"]
