@@ -133,6 +133,10 @@ def cmd_info(args) -> int:
         print(f"particles    {status['particles']}" + (f" ({status['deleted_particles']} deleted)"
                                                         if status["deleted_particles"] else ""))
         print(f"wall time    {status['wall_seconds']:.1f} s")
+        if "mpi" in status:
+            m = status["mpi"]
+            print(f"MPI ranks    {m['ranks']}, slabs along {m['split_axis']} cut at cells {m['cuts']}, rebalanced "
+                  f"{m['rebalanced']} times; particles per rank at the end {m['particles_per_rank']}")
         for name, o in status["obstacles"].items():
             unit = "N" if case.get("dimension") == 3 else "N/m"
             print(f"peak force   {name}: {o['peak_force']:.4g} {unit} at t = {o['peak_time']:.4g} s")

@@ -289,7 +289,7 @@ def run_case(case, out=None, overrides=(), progress: bool = True, resume=None, o
 
         nchunks = checkpoint.read_meta(run_dir)["nchunks"]
     sim = Simulation(scene, nchunks=nchunks, domain=domain)
-    runner = Runner(sim, run_dir, writers, progress=progress and not quiet)
+    runner = Runner(sim, run_dir, writers, progress=progress and not quiet and domain.comm.is_root)
     if resume:
         runner.resume()
         if sim.time >= scene.end_time * (1 - 1e-12):

@@ -103,7 +103,7 @@ def _same_answers(name, tmp_path):
     return found
 
 
-def test_dam_break_on_two_and_three_ranks_matches_one_process(tmp_path):
+def test_dam_break_on_two_and_three_ranks_matches_one_process(tmp_path, capsys):
     """Dam break (cases/dam_break.json, 3200 particles, 203 steps): the slabs cut the water column (cuts at
     cells 7 and 13 of 120 on 3 ranks), so most particles feel a halo; positions, stresses and the series
     agree to 1e-10 of their largest values.  Each output time of the 3-rank run is a .pvtu over one piece
@@ -118,6 +118,10 @@ def test_dam_break_on_two_and_three_ranks_matches_one_process(tmp_path):
     ids1, u1 = _read_vtk(sorted((tmp_path / "r1" / "run" / "particles").glob("particles_*.vtu"))[-1])
     assert sorted(ids) == list(range(3200))
     assert mpi.relative(u1[np.argsort(ids1)], u[np.argsort(ids)]) <= BOUND
+    from geompm.cli import main
+
+    assert main(["info", str(tmp_path / "r3" / "run")]) == 0
+    assert "MPI ranks    3, slabs along x cut at cells [0, 7, 13, 120]" in capsys.readouterr().out
 
 
 @pytest.mark.slow
