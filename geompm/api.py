@@ -30,15 +30,17 @@ __all__ = ["Run", "run", "scene_from_dict", "scene_from_file"]
 
 
 def run(case: str | Path | dict, out: str | Path | None = None, overrides=(), progress: bool = True,
-        resume: str | Path | None = None, overwrite: bool = False, quiet: bool = False) -> Run:
+        resume: str | Path | None = None, overwrite: bool = False, quiet: bool = False, comm=None) -> Run:
     """Run ``case`` (a case file or a case dict) to its end time in ``out`` (default runs/<case name>);
     ``overrides`` are KEY=VALUE strings as `geompm run --set`.  A bad case raises geompm.errors.CaseError
     naming its JSON paths, before any folder is made.  ``overwrite`` replaces only a folder geompm made;
-    ``resume`` continues a stopped run from its checkpoint."""
+    ``resume`` continues a stopped run from its checkpoint.  Under mpiexec every rank calls it and the
+    ranks share the run; ``comm`` (geompm.parallel.comm.MpiComm) shares it among a communicator's ranks
+    instead (docs/parallel.md)."""
     # what an overwrite must never delete besides the current and home folders: the case file's folder
     protect = ((Path(case).resolve().parent, f"the case file {case}"),) if not isinstance(case, dict) else ()
     return run_case(case, out=out, overrides=overrides, progress=progress, resume=resume, overwrite=overwrite,
-                    protect=protect, quiet=quiet)
+                    protect=protect, quiet=quiet, comm=comm)
 
 
 def scene_from_file(path: str | Path, sets=()) -> Scene:
