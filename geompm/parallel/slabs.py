@@ -33,6 +33,7 @@ from geompm.parallel.partition import (balanced_cuts, check_rank_count, owners, 
                                        split_axis)
 from geompm.parallel.whole import Whole
 
+
 def refuse_unsplittable(scene, size: int) -> None:
     """CaseError before any work for what a run on several ranks cannot do yet (docs/parallel.md)."""
     problems = []
@@ -71,7 +72,6 @@ class Slabs(Whole):
         self.halo_sums = 0  # halo sums made
         self.rebalanced = 0
         self._owner = np.empty(0, np.int64)  # each particle's rank, reused every step
-        self._held = 0  # particles this rank holds (after the last migration)
 
     # -- particles -----------------------------------------------------------------------------
     def _cells(self, state):
@@ -79,10 +79,11 @@ class Slabs(Whole):
         return particle_cells(state.p_x, a, float(g.origin[a]), g.h, self.ncells)
 
     def distribute(self, state) -> None:
+        if self.cuts is not None:  # distributed already: the state is this rank's slab, not the whole
+            return
         cells = self._cells(state)
         self.cuts = balanced_cuts(np.bincount(cells, minlength=self.ncells), self.size)
         merge(state, owners(cells, self.cuts) == self.rank, [])
-        self._held = state.n
 
     def before_step(self, sim) -> None:
         st = sim.state
@@ -114,7 +115,6 @@ class Slabs(Whole):
         self.sent_particles += sum(nparticles(p) for p in out)
         if away or any(nparticles(p) for p in arrived):
             merge(st, own == self.rank, arrived)
-        self._held = st.n
 
     def gathered(self, state):
         import copy
@@ -206,10 +206,10 @@ class Slabs(Whole):
     def node_parts(self, first, last):
         return halo.node_parts(first, last, self.axis, *self.c_range)
 
-    def report(self) -> dict:
-        """status.json's ``mpi`` entry (a collective call): the slabs, how often they moved, and the
-        traffic of every rank."""
-        sent = self.comm.gather(self.measured())
+    def report(self, state) -> dict:
+        """status.json's ``mpi`` entry (a collective call): the slabs, how often they moved, the particles
+        each rank holds in ``state`` and the traffic of every rank."""
+        sent = self.comm.gather(dict(self.measured(), particles=state.n))
         return {"ranks": self.size, "split_axis": "xyz"[self.axis], "cuts": [int(c) for c in self.cuts],
                 "particles_per_rank": [int(m["particles"]) for m in sent],
                 "rebalanced": self.rebalanced, "particles_migrated": sum(m["sent_particles"] for m in sent),
@@ -217,9 +217,8 @@ class Slabs(Whole):
                 "halo_sums": self.halo_sums}
 
     def measured(self) -> dict:
-        """This rank's particles now and its traffic so far: particles sent, halo sums, halo nodes and
-        bytes sent."""
-        return {"particles": self._held, "sent_particles": self.sent_particles, "halo_sums": self.halo_sums,
+        """This rank's traffic so far: particles sent, halo sums, halo nodes and bytes sent."""
+        return {"sent_particles": self.sent_particles, "halo_sums": self.halo_sums,
                 "halo_nodes": self.halo_nodes, "halo_bytes": self.halo_bytes,
                 "bytes_sent": self.halo_bytes_sent, "all_bytes_sent": getattr(self.comm, "bytes_sent", 0)}
 

@@ -41,8 +41,9 @@ class Whole:
         """Every particle of the run, in one state on rank 0 (None elsewhere)."""
         return state
 
-    def report(self) -> dict:
-        """What the decomposition measured (status.json's ``ranks``); empty in one process."""
+    def report(self, state) -> dict:
+        """What the decomposition measured, with the particles of ``state`` per rank (status.json's
+        ``mpi``); empty in one process."""
         return {}
 
 
