@@ -2,7 +2,7 @@
 ranks (one numba thread each), and the largest relative difference of each field and series column
 against the one-process run.
 
-    python benchmarks/parallel/equality_table.py OUT_DIR
+    python benchmarks/parallel/equality_table.py OUT_DIR [SCENE ...]
 """
 
 from __future__ import annotations
@@ -17,9 +17,11 @@ from tests.mpi.test_same_answers import SCENES  # noqa: E402
 from tests.support import mpi  # noqa: E402
 
 
-def main(out: Path) -> None:
+def main(out: Path, only=()) -> None:
     rows = []
     for name, make in SCENES.items():
+        if only and name not in only:
+            continue
         case = make()
         assert mpi.run(case, out / name / "r1", 1).returncode == 0
         one = out / name / "r1" / "run"
@@ -36,8 +38,9 @@ def main(out: Path) -> None:
                          "cuts": status["mpi"]["cuts"], **fields, "worst_series": worst_series,
                          "worst_series_diff": diff[worst_series], "guard_put_back_1rank": guard})
             print(json.dumps(rows[-1]))
-    (out / "equality.json").write_text(json.dumps(rows, indent=1))
+    (out / ("equality.json" if not only else "equality_" + "_".join(only) + ".json")).write_text(
+        json.dumps(rows, indent=1))
 
 
 if __name__ == "__main__":
-    main(Path(sys.argv[1]))
+    main(Path(sys.argv[1]), sys.argv[2:])
