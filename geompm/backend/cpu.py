@@ -156,6 +156,7 @@ class CpuBackend(Backend):
         plan = self._stage_loops(cls)
         if issubclass(cls, GridStage):
             plan["node_out"] = np.zeros((nc, max(stage.node_reduction, 1)))  # a stage may size it in setup
+            plan["node_spill"] = np.zeros_like(plan["node_out"])  # the rows of nodes another rank counts
             plan["node_work"] = np.zeros((nc, d + cls.node_scratch))
         if issubclass(cls, ParticleStage):
             plan["particle_out"] = np.zeros((nc, max(stage.particle_reduction, 1)))
@@ -187,7 +188,7 @@ class CpuBackend(Backend):
         out.fill(0.0)
         g = self.scene.grid
         for f_box, l_box, counted in self.domain.node_parts(first, last):
-            into = out if counted else plan.setdefault("node_spill", np.zeros_like(out))
+            into = out if counted else plan["node_spill"]
             loop(prm, aux, dt, g.origin, g.h, view.lo, view.nloc, f_box, l_box, view.g_mass, view.g_vel, v_old,
                  f, plan["node_work"], into)
         stage.grid_reduced(self.joined(out, stage.node_reduction), dt, time, remap)

@@ -67,7 +67,6 @@ class Slabs(Whole):
         self.c_range = None  # the nodes [c_lo, c_hi) along the axis whose reductions this rank counts
         self.sent_particles = 0  # particles this rank sent to others
         self.halo_nodes = 0  # nodes summed with neighbours, all steps
-        self.halo_bytes = 0  # bytes received from neighbours
         self.halo_bytes_sent = 0  # bytes sent to neighbours
         self.halo_sums = 0  # halo sums made
         self.rebalanced = 0
@@ -200,7 +199,6 @@ class Slabs(Whole):
                 part += got[k:k + part.size].reshape(part.shape)
                 k += part.size
             self.halo_nodes += (ov[1] - ov[0]) * int(np.prod(view.nloc)) // max(int(view.nloc[a]), 1)
-            self.halo_bytes += got.nbytes
         self.halo_sums += 1
 
     def node_parts(self, first, last):
@@ -219,6 +217,6 @@ class Slabs(Whole):
     def measured(self) -> dict:
         """This rank's traffic so far: particles sent, halo sums, halo nodes and bytes sent."""
         return {"sent_particles": self.sent_particles, "halo_sums": self.halo_sums,
-                "halo_nodes": self.halo_nodes, "halo_bytes": self.halo_bytes,
+                "halo_nodes": self.halo_nodes,
                 "bytes_sent": self.halo_bytes_sent, "all_bytes_sent": getattr(self.comm, "bytes_sent", 0)}
 
