@@ -36,7 +36,7 @@ here=$(cd "$(dirname "$0")" && pwd)
   for p in float32 float64; do bench 35 64 $p 50 --scene fluid3d --scene dp3d; done
   bench 60 256 float32 10 --scene fluid3d --set solver.p2g=tiled
   bench 60 128 float32 30 --scene dp3d --set solver.p2g=tiled
-  # saturated soil (backend/cuda_twophase.py): the bench scene and its CPU parity after 200 steps
+  # saturated soil (schemes/saturated/cuda.py): the bench scene and its CPU parity after 200 steps
   bench 60 64 float64 30 --scene saturated3d --scene dp3d
   step 60 python3 tests/cuda/cuda_parity.py --steps 200 saturated_drucker_prager
   # every law and stage on the GPU against the CPU, with what is left (both sides compile cold here)

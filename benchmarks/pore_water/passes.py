@@ -1,4 +1,4 @@
-"""Time each pass of the saturated step (backend/twophase_cpu.py, engine/scheduler._step_saturated) on the
+"""Time each pass of the saturated step (schemes/saturated/cpu.py, schemes/saturated/scheme.py) on the
 bench scene saturated3d, warm, and the dry step of dp3d beside it, in ns per particle-step.
 
     python benchmarks/pore_water/passes.py [STEPS]
@@ -18,6 +18,10 @@ from geompm.engine.scheduler import Simulation
 HERE = Path(__file__).resolve().parents[1]
 
 
+def no_halo(arrays):
+    """One process: no neighbour's partial sums to add."""
+
+
 def timed(table, name, fn, *args, **kw):
     t = time.perf_counter()
     fn(*args, **kw)
@@ -26,15 +30,14 @@ def timed(table, name, fn, *args, **kw):
 
 def p2g_parts(table, wet, view):
     """SaturatedCpu.p2g, pass by pass."""
-    from geompm.kernels import twophase as tp
+    from geompm.schemes.saturated import kernels as tp
 
     cpu, st, g, pw = wet.cpu, wet.cpu.state, wet.scene.grid, wet.pw
     wet._particles()
     nn = wet._nodes(view)
     if wet.smoothing:
-        timed(table, "p2g: pore pressure seen through the grid (a P2G and a G2P)", tp.grid_smooth, cpu.tag,
-              st.p_x, st.p_pore_carried, st.p_drained, st.p_vol, g.origin, g.h, g.kind, view.lo, view.nloc,
-              wet.c_w[:, :nn], wet.g_p[:nn], st.p_pore)
+        timed(table, "p2g: pore pressure seen through the grid (a P2G and a G2P)", wet._smooth, view, no_halo,
+              st.p_pore_carried, st.p_pore)
     timed(table, "p2g: total stress, water mass, drag (prepare)", tp.prepare, st.p_stress, st.p_pore, st.p_n,
           st.p_sat, st.p_vol, st.p_material, pw.table, wet.p_total, wet.p_wmass, wet.p_drag)
     timed(table, "p2g: solid P2G (the dry kernel)", cpu.p2g_kernel, cpu.tag, cpu.scheme, st.p_x, st.p_v, st.p_C,
@@ -52,7 +55,7 @@ def p2g_parts(table, wet, view):
 
 def water_parts(table, wet, view, dt):
     """SaturatedCpu.water_g2p, pass by pass."""
-    from geompm.kernels import twophase as tp
+    from geompm.schemes.saturated import kernels as tp
 
     st, g, nn, pw = wet.cpu.state, wet.scene.grid, view.g_vel.shape[0], wet.pw
     timed(table, "water G2P", tp.water_g2p, wet.cpu.tag, st.p_x, st.p_vw, st.p_Cw, wet.affine, wet.scene.apic_dinv,
@@ -64,9 +67,8 @@ def water_parts(table, wet, view, dt):
           st.p_material, pw.table, dt)
     dp = wet.p_dp
     if wet.smoothing:
-        timed(table, "increment seen through the grid (a P2G and a G2P)", tp.grid_smooth, wet.cpu.tag, st.p_x,
-              wet.p_dp, st.p_drained, st.p_vol, g.origin, g.h, g.kind, view.lo, view.nloc, wet.c_w[:, :nn],
-              wet.g_p[:nn], wet.p_dps)
+        timed(table, "increment seen through the grid (a P2G and a G2P)", wet._smooth, view, no_halo, wet.p_dp,
+              wet.p_dps)
         dp = wet.p_dps
     timed(table, "pressure increment", tp.add_increment, st.p_pore_carried, st.p_pore, dp, st.p_drained)
 
@@ -75,7 +77,7 @@ def saturated_passes(steps):
     sim = Simulation(scene_from_dict(json.loads((HERE / "saturated3d.json").read_text())))
     for _ in range(3):  # compile and settle
         sim.step(sim.stable_dt())
-    be, wet, cpu = sim.backend, sim.backend.saturated, sim.backend
+    be, wet, cpu = sim.backend, sim.backend.passes, sim.backend
     table = {}
     for _ in range(steps):
         dt = sim.stable_dt()

@@ -1,6 +1,7 @@
 """The backend contract: what the scheduler asks of the machine a step runs on.
 
-One step (engine/scheduler.py) in backend calls:
+One step in backend calls (the ``usl`` scheme's, schemes/usl.py; other schemes order the same calls
+differently and add their own passes, ``passes``):
 
     sort_particles()                 every solver.sort_interval steps
     view = window()                  the active grid window (mpm/grid.py)
@@ -16,7 +17,7 @@ One step (engine/scheduler.py) in backend calls:
 The transfer scheme (PIC/APIC/FLIP/MLS) and the stencil support are fixed when
 the backend is made and reach the kernels as compile-time tags
 (kernels/stencil.py); the update order (USL/MUSL) is the scheduler's choice of
-step function, fixed at construction.
+scheme's (schemes/), fixed before the run.
 """
 
 from __future__ import annotations
@@ -116,8 +117,12 @@ class Backend:
     def update_stress(self, dt: float) -> None:
         raise NotImplementedError
 
-    def set_pore_pressure(self, p_pore) -> None:
-        """The pore pressure [Pa] of each particle (a water table's, mpm/water_table.py) that the next P2G
+    #: the scene's scheme's own passes on this backend (schemes/base.Scheme.backend_passes; NO_PASSES when
+    #: the scheme runs the core's kernels only): the backend declares them here so a scheme finds them
+    passes = None
+
+    def set_table_pressure(self, p_table_pressure) -> None:
+        """The pore pressure [Pa] of each particle under a water table (mpm/water_table.py) that the next P2G
         takes out of the effective stress: the grid sees sigma' - p I.  The CPU backend implements it; the
         case check refuses a water table elsewhere (schema/triggers.py)."""
         raise NotImplementedError("a water table runs on the CPU backend only")

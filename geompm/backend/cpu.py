@@ -26,7 +26,6 @@ from geompm.backend.base import Backend
 from geompm.backend.cpu_loops import update_law_block
 from geompm.backend.cpu_loops import block_loops
 from geompm.backend.cpu_stage_loops import merge_loop, node_loop, particle_loop
-from geompm.backend.twophase_cpu import SaturatedCpu
 from geompm.kernels.phreatic import total_stress
 from geompm.kernels.reduce import cell_bounds
 
@@ -58,18 +57,18 @@ class CpuBackend(Backend):
         #: have used it (None: unknown)
         self._box_rows = np.zeros((G2P_CHUNKS, 2, 3))
         self.p_box = None
-        #: the saturated soil's passes (backend/twophase_cpu.py), None for a dry scene
-        self.saturated = SaturatedCpu(self) if scene.pore_water is not None else None
-        #: a water table's pore pressure for the next P2G (set_pore_pressure) and the total stress it makes
-        self.p_pore = None
+        #: the scheme's own passes on this backend (schemes/base.Scheme.backend_passes)
+        self.passes = scene.scheme.backend_passes(self)
+        #: the stress the grid sees: the particles' own, or a water table's total stress (set_table_pressure)
+        self._acting_stress = self._own_stress
+        self.p_table_pressure = None
         self._total = np.zeros((0, 6), self.state.dtype)
 
     def host_state(self):
         return self.state
 
     def nbytes(self) -> int:
-        wet = 0 if self.saturated is None else self.saturated.nbytes()
-        return self.state.nbytes() + self.buffers.nbytes() + wet
+        return self.state.nbytes() + self.buffers.nbytes() + self.passes.nbytes()
 
     def window(self):
         return self.buffers.window(self.state.p_x)
@@ -89,18 +88,19 @@ class CpuBackend(Backend):
                         g.origin, g.h, g.kind, view.lo, view.nloc, self.buffers.c_grid, self.split_force,
                         f_scale, self.scene.apic_dinv, view.g_mass, view.g_mom, g_force)
 
-    def set_pore_pressure(self, p_pore) -> None:
-        self.p_pore = p_pore
+    def set_table_pressure(self, p_table_pressure) -> None:
+        self.p_table_pressure = p_table_pressure
+        self._acting_stress = self._table_stress
 
-    def _acting_stress(self):
-        """The stress the grid sees: the particles' own, or sigma' - (V0 / V) p I under a water table
-        (kernels/phreatic.py)."""
+    def _own_stress(self):
+        return self.state.p_stress
+
+    def _table_stress(self):
+        """sigma' - (V0 / V) p I under a water table (kernels/phreatic.py)."""
         st = self.state
-        if self.p_pore is None:
-            return st.p_stress
         if self._total.shape != st.p_stress.shape or self._total.dtype != st.p_stress.dtype:
             self._total = np.zeros_like(st.p_stress)
-        total_stress(st.p_stress, self.p_pore, st.p_vol, st.p_vol0, self._total)
+        total_stress(st.p_stress, self.p_table_pressure, st.p_vol, st.p_vol0, self._total)
         return self._total
 
     def grid_update(self, view, dt: float) -> None:

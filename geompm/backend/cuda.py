@@ -40,10 +40,9 @@ from geompm.kernels.stencil import SCHEMES
 from geompm.contract.stages import FAR_NODE
 from geompm.backend import cuda_kernels as K
 from geompm.backend import cuda_loops, cuda_sort
-from geompm.backend.cuda_twophase import SATURATED_ARRAYS, SaturatedCuda
 from geompm.backend.base import Backend
 
-#: the particle arrays that live on the device (with saturated soil also cuda_twophase.SATURATED_ARRAYS)
+#: the particle arrays that live on the device (and the scheme's own: its passes' ``device_arrays``)
 DEVICE_ARRAYS = ("p_x", "p_x0", "p_v", "p_C", "p_mass", "p_vol", "p_rho", "p_stress", "p_L")
 
 
@@ -99,10 +98,9 @@ class CudaBackend(Backend):
         self._dev_state: list = []
         self._tables: dict = {}  # (stage, pass) -> (its aux on the host, the device copy)
         self._on_host = True  # the host arrays are current; the next kernel uploads them
-        wet = scene.pore_water is not None
-        self.device_arrays = DEVICE_ARRAYS + (SATURATED_ARRAYS if wet else ())
-        #: the saturated soil's passes (backend/cuda_twophase.py), None for a dry scene
-        self.saturated = SaturatedCuda(self) if wet else None
+        #: the scheme's own passes on this backend (schemes/base.Scheme.backend_passes)
+        self.passes = scene.scheme.backend_passes(self)
+        self.device_arrays = DEVICE_ARRAYS + self.passes.device_arrays
 
     # -- host <-> device -------------------------------------------------------------------------------
     def _device(self) -> dict:
@@ -123,8 +121,7 @@ class CudaBackend(Backend):
         return self.state
 
     def nbytes(self) -> int:
-        wet = 0 if self.saturated is None else self.saturated.nbytes()
-        return self.state.nbytes() + self.buffers.nbytes() + wet
+        return self.state.nbytes() + self.buffers.nbytes() + self.passes.nbytes()
 
     # -- the step ---------------------------------------------------------------------------------------
     def window(self):
@@ -209,7 +206,7 @@ class CudaBackend(Backend):
             if e > s:
                 wave = type(mat).particle_wave_speed
                 laws[k] = max(wave(mat.prm, -r[1 + 2 * k]), wave(mat.prm, r[2 + 2 * k]))
-        c = max(laws, default=0.0) if self.saturated is None else self.saturated.wave_speed(laws)
+        c = self.passes.wave_speed(laws)
         if self.max_rate is None:  # before the first step, after a restore: from the particles
             self.max_rate = max_rate(self.host_state().p_L) if st.n else 0.0
         return c, (float(r[0]) if st.n else 0.0), self.max_rate

@@ -16,8 +16,8 @@ dt |L_ij| measured was 0.005 (column collapse) and 0.008 (dam break), fifty
 times below it.  It uses the velocity gradient of the previous step (the
 backend's stress loop returns its largest |L_ii|).
 
-With saturated soil c_p is the largest of the undrained, water and skeleton wave speeds
-(backend/pore_speeds.py).
+The wave speed is the scheme's (schemes/base.Scheme.wave_speed): each material block's law speed, or with
+saturated soil the largest of the undrained, water and skeleton wave speeds (schemes/saturated/speeds.py).
 
 This module is the one place the limits are computed (the health check's diagnoses ask here).
 Courant, Friedrichs & Lewy (1928); the viscous bound is the explicit diffusion
@@ -38,13 +38,15 @@ def wave_speed(scene, state, finite_only: bool = False, materials=None) -> float
     (backend/cpu_loops.py); ``finite_only`` skips blocks with a non-finite density (a blown-up run's
     diagnosis); ``materials`` replaces the scene's laws block by block (the time-step report's other
     integrations, estimate.py)."""
+    if materials is None:
+        return scene.scheme.wave_speed(scene, state, finite_only)
+    return law_speeds(scene, state, finite_only, materials)
+
+
+def law_speeds(scene, state, finite_only: bool = False, materials=None) -> float:
+    """Largest law wave speed c_p over the material blocks [m/s] (arguments as ``wave_speed``)."""
     import numpy as np
 
-    if scene.pore_water is not None and materials is None:
-        from geompm.backend.pore_speeds import saturated_speeds
-
-        speeds = saturated_speeds(scene, state)
-        return max(speeds["undrained"], speeds["water"], speeds["skeleton"])
     mats = scene.materials if materials is None else materials
     return max((law_wave_speed(mat, state.p_rho[s:e]) for mat, (s, e) in zip(mats, state.blocks)
                 if e > s and (not finite_only or np.isfinite(state.p_rho[s:e]).all())), default=0.0)

@@ -42,7 +42,6 @@ def _load(args):
 def cmd_validate(args) -> int:
     from geompm.backend.timestep import below_dt_min
     from geompm.engine.first_step import first_step_estimate, fixed_step_problem, stage_warnings, viscous_warning
-    from geompm.engine.pore_report import pore_water_lines
 
     loaded, scene = _load(args)
     problem = fixed_step_problem(scene)
@@ -59,7 +58,7 @@ def cmd_validate(args) -> int:
         print(f"warning: the first time step is below time.dt_min = {scene.dt_min:g} s: `geompm run` would stop "
               "before the first step (exit 3); the wave speed sqrt(E/rho), the viscosity and time.cfl set it")
     _step_limits(scene)
-    for line in pore_water_lines(scene):
+    for line in scene.scheme.report(scene):
         print(line)
     if scene.strength_trigger is not None:
         times, factors, ids = scene.strength_trigger

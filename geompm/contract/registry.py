@@ -1,7 +1,7 @@
 """Entry-point discovery of plugins.
 
 Groups: ``geompm.materials``, ``geompm.damping``, ``geompm.boundaries``,
-``geompm.obstacles``, ``geompm.writers``.  Built-in plugins register through
+``geompm.obstacles``, ``geompm.writers``, ``geompm.schemes``.  Built-in plugins register through
 the same entry points (in geompm's pyproject.toml) as third-party packages.
 
 Discovery is lazy (a group is scanned the first time it is asked for) and
@@ -25,6 +25,7 @@ GROUPS = {
     "boundaries": "geompm.boundaries",
     "obstacles": "geompm.obstacles",
     "writers": "geompm.writers",
+    "schemes": "geompm.schemes",
 }
 
 

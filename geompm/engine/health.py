@@ -30,7 +30,6 @@ from numba import njit, prange
 
 from geompm.errors import SimulationError
 from geompm.backend.timestep import below_dt_min, viscous_limit, wave_speed
-from geompm.kernels.phreatic import pore_work
 from geompm.parallel.comm import SERIAL
 
 
@@ -139,10 +138,7 @@ class HealthCheck:
         st, sc = sim.state, self.scene
         comm = self.comm
         mine, ek, wg = health_sums(st.p_x, st.p_x0, st.p_v, st.p_stress, st.p_mass, sc.gravity)
-        water = getattr(sim, "water", None)
-        work = 0.0 if water is None else pore_work(water.pressure(st.p_x, st.p_material, sim.time), st.p_vol,
-                                                   st.p_vol0, st.p_x, st.p_x0, water.normal.astype(st.p_x.dtype),
-                                                   water.gradient)
+        work = sim.water.work(st, sim.time)
         bad, ek, wg, work = comm.sum([mine, ek, wg, work])
         bad, ek, wg = int(round(bad)), float(ek), float(wg)
         self.kinetic_energy, self.released = ek, wg
@@ -156,7 +152,7 @@ class HealthCheck:
                            f"Likely cause: {self._likely_cause(sim)}")
             raise SimulationError(first_message(comm, message))
         allowed = self.budget0 + max(wg, 0.0) + sum(s.supplied_work() for s in sc.stages if s.supplies_energy)
-        allowed += float(work) if water is not None else 0.0
+        allowed += float(work)
         if ek > 2.0 * allowed + self.floor:
             p, top = fastest(comm, sim)
             raise SimulationError(first_message(comm, None if not top else

@@ -36,3 +36,23 @@ class StrengthSchedule:
             mat.prm[:] = law(reduced).prm
         backend.material_parameters_changed()
         self.current = f
+
+    def series(self, time: float) -> dict[str, float]:
+        return {"strength_factor": self.factor(time)}
+
+
+class NoStrengthSchedule:
+    """A scene without a strength trigger: nothing changes, no series column."""
+
+    current = 1.0
+
+    def apply(self, scene, backend, time: float) -> None:
+        pass
+
+    def series(self, time: float) -> dict[str, float]:
+        return {}
+
+
+def strength_schedule(trigger):
+    """The schedule of ``scene.strength_trigger`` (times, factors, material ids), or a NoStrengthSchedule."""
+    return NoStrengthSchedule() if trigger is None else StrengthSchedule(*trigger)

@@ -12,19 +12,9 @@ n particles, d dimensions; shapes as below, SI units:
     p_id (n,) int64 stable particle id: its index in the assembled scene, carried
         through every re-ordering (spatial sort, deletion) and written with every output
 
-Saturated soil (docs/pore-water.md) adds, and only then (None otherwise):
-
-    p_vw (n, d) water velocity [m/s]       p_Cw (n, d, d) the water's affine matrix [1/s] (APIC and MLS)
-    p_pore (n,) pore pressure [Pa, compression positive]: the pressure that acts on the grid and that every
-        output reports, the carried pressure seen through the grid (kernels/twophase.grid_smooth)
-    p_pore_carried (n,) each particle's own sum of its mass-balance increments [Pa] (the state variable;
-        equal to p_pore without solver.pore_pressure_smoothing)
-    p_drained (n,) 1 where the particle held no pore pressure at its last update (dry, separated, at the
-        free surface or a drained boundary), else 0
-    p_n (n,) porosity [-]                  p_sat (n,) 1 for a saturated particle, 0 for a dry one
-    p_wt (n,) height of its body's water table along the upward direction [m] (the hydrostatic reference
-        of the excess pore pressure)
-p_mass is then the solids' mass and p_stress the effective stress.
+A scheme adds the particle arrays it declares (schemes/base.Field; the saturated scheme's in
+schemes/saturated/fields.py) as attributes of the state: ``arrays()`` lists them with the core's, so
+the sort, the migration between ranks, the writers and the checkpoints carry them unchanged.
 
 Particles are sorted by material: material k owns the contiguous block
 ``blocks[k] = (start, end)``; its state variables live in ``p_state[k]``
@@ -53,14 +43,6 @@ class ParticleState:
     p_rho: np.ndarray = None
     p_L: np.ndarray = None
     p_id: np.ndarray = None
-    p_vw: np.ndarray = None
-    p_Cw: np.ndarray = None
-    p_pore: np.ndarray = None
-    p_pore_carried: np.ndarray = None
-    p_drained: np.ndarray = None
-    p_n: np.ndarray = None
-    p_sat: np.ndarray = None
-    p_wt: np.ndarray = None
     blocks: list = field(default_factory=list)
     p_state: list = field(default_factory=list)
     sort_work: np.ndarray | None = None  # (n, 3) work buffer of sort_by_cell, made at the first sort

@@ -5,13 +5,16 @@ Before each P2G the Simulation asks for the pore pressure at the particles' curr
 (kernels/phreatic.py) and hands it to the backend, whose P2G then takes the total stress sigma' - p I; the
 laws integrate the effective stress, unchanged.  Nothing is stored per particle: p is a function of position
 and time, so a spatial sort, a deletion or a resumed run need nothing of it.
+
+A scene without a water table gets ``NO_WATER_TABLE``, which loads nothing, adds no series column, no work
+and no field: the step, the health check and the writers call the same methods either way.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from geompm.kernels.phreatic import phreatic_pressure
+from geompm.kernels.phreatic import phreatic_pressure, pore_work
 
 
 class WaterTable:
@@ -37,3 +40,47 @@ class WaterTable:
         phreatic_pressure(p_x, p_material, self.acts, self.normal.astype(p_x.dtype), self.height(time),
                           self.gradient, self._out)
         return self._out
+
+    def load(self, backend, state, time: float) -> None:
+        """Hand the backend the pore pressure its next P2G takes out of the effective stress."""
+        backend.set_table_pressure(self.pressure(state.p_x, state.p_material, time))
+
+    def series(self, time: float) -> dict[str, float]:
+        return {"water_table": self.height(time)}
+
+    def work(self, st, time: float) -> float:
+        """The work [J] the table's pressure can have done on the particles (kernels/phreatic.pore_work)."""
+        return float(pore_work(self.pressure(st.p_x, st.p_material, time), st.p_vol, st.p_vol0, st.p_x, st.p_x0,
+                               self.normal.astype(st.p_x.dtype), self.gradient))
+
+    def point_data(self, st, time: float, mean_p) -> dict:
+        """The VTU fields under the table (docs/slope-stability.md): "stress" becomes the total stress."""
+        pore = self.pressure(st.p_x, st.p_material, time).copy()
+        total = st.p_stress.copy()
+        total[:, :3] -= pore[:, None]
+        return {"stress": total, "mean_stress_p": mean_p + pore, "effective_stress": st.p_stress.copy(),
+                "effective_mean_stress_p": mean_p, "pore_pressure": pore}
+
+
+class NoWaterTable:
+    """A scene without a water table (module docstring)."""
+
+    def load(self, backend, state, time: float) -> None:
+        pass
+
+    def series(self, time: float) -> dict[str, float]:
+        return {}
+
+    def work(self, st, time: float) -> float:
+        return 0.0
+
+    def point_data(self, st, time: float, mean_p) -> dict:
+        return {}
+
+
+NO_WATER_TABLE = NoWaterTable()
+
+
+def water_table_of(scene):
+    """The scene's water table (``scene.water_table``'s tuple), or NO_WATER_TABLE."""
+    return NO_WATER_TABLE if scene.water_table is None else WaterTable(*scene.water_table)

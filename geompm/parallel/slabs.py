@@ -37,9 +37,10 @@ from geompm.parallel.whole import Whole
 def refuse_unsplittable(scene, size: int) -> None:
     """CaseError before any work for what a run on several ranks cannot do yet (docs/parallel.md)."""
     problems = []
-    if scene.pore_water is not None:
-        problems.append(("materials", f"saturated soil (pore water) runs in one process only; this run was "
-                                      f"started on {size} MPI ranks"))
+    scheme = scene.scheme
+    if not type(scheme).splits_over_ranks:
+        problems.append(("solver.update", f"scheme '{scheme.name}' runs in one process only; this run was "
+                                          f"started on {size} MPI ranks"))
     for stage in scene.stages:
         if not type(stage).splits_over_ranks:
             problems.append((stage.json_path or stage.label,

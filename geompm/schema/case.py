@@ -81,9 +81,10 @@ class SolverSpec(Strict):
         "per second that does not grow when the step shrinks (docs/validation/column-collapse.md); "
         "e.g. 0.1 sqrt(H0 / g) for a granular collapse"
     )
-    update: Literal["usl", "musl"] = Field(
-        "usl", description="Stress update order: USL (update stress last) or MUSL (modified USL)"
-    )
+    update: str | None = Field(
+        None, description="The time step's scheme, a 'geompm.schemes' entry point: 'usl' (update stress last), "
+        "'musl' (modified USL) or 'saturated' (two-phase soil, docs/pore-water.md); left out, 'usl' for dry "
+        "materials and 'saturated' where a material has 'pore_water'")
     backend: Literal["cpu", "cuda"] = Field(
         "cpu", description="Where the step's kernels run: 'cpu' (numba, all cores) or 'cuda' (an NVIDIA GPU "
         "through numba-cuda: pip install 'geompm[cuda]'; NUMBA_ENABLE_CUDASIM=1 runs it on numba-cuda's "

@@ -25,7 +25,8 @@ from geompm.files.atomic import case_relative, unreadable_file
 from geompm.mpm.memory import available_memory, grid_bytes, particle_bytes, window_nodes
 from geompm.schema.case import Case, DampingSpec, MaterialSpec, OutputSpec, PluginSpec
 from geompm.schema.errors import format_validation_error
-from geompm.schema.pore_water import pore_water_problems, pore_water_warnings
+from geompm.schema.pore_water import pore_water_problems
+from geompm.schema.scheme import resolve_scheme
 from geompm.schema.raw_checks import TOO_DEEP, merge, raw_problems
 from geompm.schema.triggers import trigger_problems
 
@@ -50,6 +51,8 @@ class LoadedCase:
     obstacles: list[Resolved] = field(default_factory=list)
     damping: list[Resolved] = field(default_factory=list)
     outputs: list[Resolved] = field(default_factory=list)
+    #: the time-step scheme's class (schema/scheme.py), None until resolved
+    scheme: type | None = None
     #: (JSON path, message): settings the case gives that do nothing (ineffective_settings)
     warnings: list[tuple[str, str]] = field(default_factory=list)
 
@@ -373,8 +376,12 @@ def _parse_valid_numbers(raw: dict, base_dir: Path) -> LoadedCase:
     problems.extend(duplicate_labels(loaded))
     problems.extend(pore_water_problems(case, loaded))
     problems.extend(trigger_problems(case, loaded))
+    loaded.scheme, why = resolve_scheme(case)
+    problems.extend(why)
+    if loaded.scheme is not None:
+        problems.extend(loaded.scheme.problems(case, loaded))
+        loaded.warnings.extend(loaded.scheme.warnings(case))
     loaded.warnings.extend(plausibility_warnings(loaded))
-    loaded.warnings.extend(pore_water_warnings(case))
     if not problems:
         _check_memory(case, problems)
     if problems:

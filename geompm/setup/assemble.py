@@ -17,10 +17,8 @@ from geompm.errors import CaseError
 from geompm.setup.bodies import overlap_problems, seed_body
 from geompm.mpm.water_table import WaterTable
 from geompm.schema.triggers import water_table_materials
-from geompm.setup.pore_water import body_water, buoyant_mass, material_table, skeleton_params
 from geompm.kernels.overburden import column_overburden
 from geompm.kernels.shape import APIC_D_FACTOR, KIND
-from geompm.kernels.twophase import N0
 from geompm.schema.case import RunSpec
 from geompm.schema.load import LoadedCase
 
@@ -41,7 +39,6 @@ class Scene:
     transfer: str  # "pic", "apic", "flip" or "mls" (kernels/stencil.SCHEMES)
     flip_ratio: float
     flip_tau: float | None  # FLIP relaxation time [s]: ratio exp(-dt/tau) per step instead of flip_ratio
-    musl: bool
     apic_dinv: float  # APIC/MLS inertia D^-1 [1/m2]; 0 for linear hats (no D: C = L)
     nu_max: float
     run_options: RunSpec  # checkpoints, on_leave_domain
@@ -58,7 +55,8 @@ class Scene:
     writers: list = field(default_factory=list)
     body_materials: list = field(default_factory=list)  # the material name of each body, in case order
     crs: str | None = None  # the case's coordinate reference system ("EPSG:2056"), if it states one
-    pore_water: object = None  # setup/pore_water.PoreWater where a material is saturated, else None
+    #: the time step's scheme (schemes/base.Scheme, resolved from solver.update and the materials), made once
+    scheme: object = None
     #: triggers.strength_reduction as (times [s], factors [-], material ids), or None (engine/triggers.py)
     strength_trigger: tuple | None = None
     #: the water table's (times, heights, normal, gradient rho_w (-g . n), acts per material), or None
@@ -103,7 +101,7 @@ def geostatic_stress(pts, masses, volumes, k0, gravity, h, normal=None, pore=Non
     fills whole cells it is exactly rho |g| depth.
 
     With a pore pressure ``pore`` [Pa, compression positive] (a water table's:
-    engine/water_table.py) the stress is effective: sigma'_nn = w (g.n) + p
+    mpm/water_table.py) the stress is effective: sigma'_nn = w (g.n) + p
     takes the place of sigma_nn in the normal and the lateral (K0) parts, the
     bed-parallel shear stays that of the total weight.
     """
@@ -159,12 +157,12 @@ def assemble(loaded: LoadedCase) -> Scene:
     gravity = np.asarray(case.gravity, dtype=float)
 
     names = list(loaded.materials)
+    scheme = loaded.scheme(case, names)
     laws = {k: loaded.materials[k].cls for k in names}
-    materials = [laws[k](laws[k].at_cell_size(skeleton_params(case, k, loaded.materials[k].params), case.grid.cell_size))
-                 for k in names]
+    materials = [laws[k](laws[k].at_cell_size(scheme.law_params(case, k, loaded.materials[k].params),
+                                              case.grid.cell_size)) for k in names]
     xs, vs, ms, vols, mids, bids, k0s, geo, normals, tests = [], [], [], [], [], [], [], [], [], []
-    pw = material_table(case, names)
-    waters = []  # per body: (saturated flag, water table, pore pressure) or None
+    extras = []  # per body: the scheme's arrays of its particles (saturated soil: flag, water table, pressure)
     for b, body in enumerate(case.bodies):
         mid = names.index(body.material)
         mat = materials[mid]
@@ -177,7 +175,7 @@ def assemble(loaded: LoadedCase) -> Scene:
         vs.append(_body_velocity(body, pts, dim))
         vols.append(np.full(len(pts), vol))
         ms.append(np.full(len(pts), vol * mat.density))
-        waters.append(None if pw is None else body_water(body, pw, mid, pts, h, ppc))
+        extras.append(scheme.body_arrays(body, mid, pts, h, ppc))
         mids.append(np.full(len(pts), mid, dtype=np.int32))
         bids.append(np.full(len(pts), b, dtype=np.int32))
         geostatic = body.initial_stress == "geostatic"
@@ -191,9 +189,8 @@ def assemble(loaded: LoadedCase) -> Scene:
     # overburden from every body; stress only where the body asks for it, in its own surface frame
     k0_all, body_of = np.concatenate(k0s), np.concatenate(bids)
     p_material = np.concatenate(mids)
-    water = None if pw is None else [np.concatenate([np.zeros(len(x)) if w is None else w[k]
-                                                     for x, w in zip(xs, waters)]) for k in range(3)]
-    weight = p_mass if pw is None else buoyant_mass(p_mass, p_vol, p_material, water[0], pw)
+    extra = _joined(extras, [len(x) for x in xs], scheme.body_width)
+    weight = scheme.overburden_mass(p_mass, p_vol, p_material, extra)
     table = _water_table(case, loaded, names, gravity)
     pore = None if table is None else WaterTable(*table).pressure(p_x, p_material, 0.0)
     stress = np.zeros((len(p_x), 6))
@@ -214,13 +211,7 @@ def assemble(loaded: LoadedCase) -> Scene:
         p_body=np.concatenate(bids)[order],
         p_stress=np.ascontiguousarray(stress[order]),
     )
-    if pw is not None:
-        state.p_sat, state.p_wt, state.p_pore = (np.ascontiguousarray(a[order]) for a in water)
-        state.p_pore_carried = state.p_pore.copy()
-        state.p_drained = 1.0 - state.p_sat
-        state.p_vw = state.p_v.copy()
-        state.p_Cw = np.zeros_like(state.p_C)
-        state.p_n = pw.table[state.p_material, N0].copy()
+    scheme.init_fields(state, [a[order] for a in extra])
     counts = np.bincount(state.p_material, minlength=len(materials))
     starts = np.r_[0, np.cumsum(counts)]
     state.blocks = [(int(starts[k]), int(starts[k + 1])) for k in range(len(materials))]
@@ -237,12 +228,11 @@ def assemble(loaded: LoadedCase) -> Scene:
         rebalance_interval=case.solver.rebalance_interval, precision=case.solver.precision,
         p2g=case.solver.p2g,
         flip_tau=case.solver.flip_relaxation_time,
-        musl=case.solver.update == "musl",
         apic_dinv=(1.0 / (APIC_D_FACTOR[kind] * h * h)) if APIC_D_FACTOR[kind] > 0 else 0.0,
         nu_max=max((m.kinematic_viscosity() for m in materials), default=0.0),
         case_text=json.dumps(loaded.raw), crs=case.crs, body_materials=[b.material for b in case.bodies],
         strength_trigger=_strength_trigger(case, materials, names), water_table=table,
-        base_dir=loaded.base_dir, pore_water=pw,
+        base_dir=loaded.base_dir, scheme=scheme,
     )
     for r, spec in zip(loaded.outputs, loaded.case.outputs):  # first: a stage asks what they need (face forces)
         scene.writers.append(r.cls(r.params, spec.interval))
@@ -252,18 +242,15 @@ def assemble(loaded: LoadedCase) -> Scene:
             stage.setup(scene)
             getattr(scene, attr).append(stage)
     _check_bodies_clear(scene)
-    if pw is not None:
-        pw.walls = np.array([_wall_row(s.water_boundary()) for s in scene.stages if s.water_boundary() is not None]
-                            ).reshape(-1, 8)
+    scheme.after_stages(scene)
     return scene
 
 
-def _wall_row(wall) -> list[float]:
-    """A water boundary (Stage.water_boundary) as a row of kernels/twophase.node_split's ``walls``."""
-    point, normal, layer, drained = wall
-    p3, n3 = np.zeros(3), np.zeros(3)
-    p3[:len(point)], n3[:len(normal)] = point, normal
-    return [*p3, *n3, layer, 1.0 if drained else 0.0]
+def _joined(per_body: list, sizes: list[int], width: int) -> list[np.ndarray]:
+    """The scheme's ``width`` per-body arrays joined over the bodies, zeros for a body that has none (a dry
+    body of a saturated scene)."""
+    return [np.concatenate([np.zeros(n) if a is None else a[k] for a, n in zip(per_body, sizes)])
+            for k in range(width)]
 
 
 #: a particle deeper than this fraction of its spacing inside a rigid solid starts inside it (those on the

@@ -48,7 +48,6 @@ from geompm.contract import registry
 from geompm.errors import CaseError
 from geompm.files.atomic import atomic_path, atomic_write_json, case_relative
 from geompm.contract.plugin import Params
-from geompm.kernels.twophase import RHO_W
 from geompm.writers.base import Writer
 
 NODATA = -9999.0
@@ -187,8 +186,8 @@ class HazardMapWriter(Writer):
         self.depth = np.zeros((nx, ny))
         self.maps = {name: np.zeros((nx, ny)) for name in MAPS}
         self.maps["arrival"][:] = -1.0
-        self.pore = sim.scene.pore_water
-        if self.pore is not None:
+        self.basal = None
+        if sim.scene.scheme.basal_water(sim.state) is not None:
             self.maps["pore_pressure_ratio_max"] = np.zeros((nx, ny))
             self.basal = np.zeros((nx, ny, 3))
         self.started = False
@@ -205,11 +204,10 @@ class HazardMapWriter(Writer):
         m = self.maps
         accumulate(self.sums, self.area, self.params.depth_threshold, sim.time, self.depth, m["depth_max"],
                    m["speed_max"], m["pressure_max"], m["energy_max"], m["arrival"])
-        if self.pore is not None:
-            rho_w = self.pore.table[st.p_material, RHO_W]
-            wet_mass = st.p_mass + st.p_sat * st.p_n * rho_w * st.p_vol
-            basal_ratio(st.p_x, st.p_pore, wet_mass, self.x0, self.y0, self.cx, self.cy, nx, ny, self.area,
-                        self.pore.g, self.depth, self.params.depth_threshold, m["pore_pressure_ratio_max"],
+        if self.basal is not None:
+            pore, wet_mass, g = sim.scene.scheme.basal_water(st)
+            basal_ratio(st.p_x, pore, wet_mass, self.x0, self.y0, self.cx, self.cy, nx, ny, self.area,
+                        g, self.depth, self.params.depth_threshold, m["pore_pressure_ratio_max"],
                         self.basal)
         if not self.started:
             m["source"][:] = self.depth

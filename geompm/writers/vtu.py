@@ -54,24 +54,6 @@ def add_text_field(path, name: str, text: str) -> None:
     path.write_text(xml.replace(head, head + block, 1), encoding="latin-1")
 
 
-def saturated_fields(sim) -> dict[str, np.ndarray]:
-    """The pore water's fields: pore pressure p and its excess over the hydrostatic p_h = rho_w |g| (z_wt - z)
-    [Pa, compression positive], porosity, water velocity, the drained flag (1 where the particle held no
-    pore pressure at its last update: dry, separated, at the free surface or a drained boundary), and the
-    effective stress with its invariants; the particle "stress" becomes the total stress sigma' - p I."""
-    st, pw = sim.state, sim.scene.pore_water
-    s = st.p_stress
-    mean = -(s[:, 0] + s[:, 1] + s[:, 2]) / 3.0
-    dev = s[:, :3] + mean[:, None]
-    total = s.copy()
-    total[:, :3] -= st.p_pore[:, None]
-    return {"stress": total, "mean_stress_p": mean + st.p_pore, "effective_stress": s.copy(),
-            "effective_mean_stress_p": mean,
-            "effective_von_mises_q": np.sqrt(1.5 * (dev ** 2).sum(axis=1) + 3.0 * (s[:, 3:] ** 2).sum(axis=1)),
-            "pore_pressure": st.p_pore.copy(), "excess_pore_pressure": pw.excess(st),
-            "porosity": st.p_n.copy(), "water_velocity": _pad3(st.p_vw), "drained": st.p_drained.copy()}
-
-
 def particle_fields(sim) -> dict[str, np.ndarray]:
     st, sc = sim.state, sim.scene
     s = st.p_stress
@@ -92,15 +74,8 @@ def particle_fields(sim) -> dict[str, np.ndarray]:
         "volume": st.p_vol.copy(),
         "density": st.p_rho.copy(),
     }
-    if st.p_pore is not None:  # saturated soil (docs/pore-water.md): "stress" is the total stress
-        fields.update(saturated_fields(sim))
-    water = getattr(sim, "water", None)
-    if water is not None:  # under a water table (docs/slope-stability.md): "stress" is the total stress
-        pore = water.pressure(st.p_x, st.p_material, sim.time).copy()
-        total = s.copy()
-        total[:, :3] -= pore[:, None]
-        fields.update({"stress": total, "mean_stress_p": p + pore, "effective_stress": s.copy(),
-                       "effective_mean_stress_p": p, "pore_pressure": pore})
+    fields.update(sc.scheme.point_data(sim, st))  # saturated soil: "stress" is the total stress
+    fields.update(sim.water.point_data(st, sim.time, p))  # under a water table: the same
     for mat, (a, b), sv in zip(sc.materials, st.blocks, st.p_state):
         for k, var in enumerate(mat.state_vars):
             arr = fields.setdefault(var, np.zeros(st.n))

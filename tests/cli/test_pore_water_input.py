@@ -52,7 +52,7 @@ def _pw(case):
     (lambda c: c["bodies"][0]["pore_pressure"].update(water_table=0.5), "bodies.0.pore_pressure.water_table",
      "needs gravity"),
     (lambda c: c["solver"].update(update="musl") if "solver" in c else c.update(solver={"update": "musl"}),
-     "solver.update", "usl"),
+     "solver.update", "saturated"),
     (lambda c: c.update(solver={"transfer": "flip"}), "solver.transfer", "apic"),
 ])
 def test_bad_pore_water_input_is_refused_with_its_path(edit, path, words):

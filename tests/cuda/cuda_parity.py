@@ -141,7 +141,7 @@ def scenes(folder: Path) -> dict:
         "elastic_apic_quadratic_usl_tiled_p2g_float32": case2d(law("linear_elastic"), {"p2g": "tiled",
                                                                                      "precision": "float32"},
                                                              velocity=[1.0, 0.0]),
-        # saturated soil (backend/cuda_twophase.py): an impermeable friction floor, a drained slip wall, the
+        # saturated soil (schemes/saturated/cuda.py): an impermeable friction floor, a drained slip wall, the
         # pressure seen through the grid, the water's APIC matrix, the device sort of its arrays
         "saturated_drucker_prager": case2d(
             law("drucker_prager", pore_water={"porosity": 0.4, "hydraulic_conductivity": 1e-3,

@@ -16,7 +16,7 @@
   subprocess with NUMBA_ENABLE_CUDASIM=1: every built-in law (and the mu_i plugin), both integrations
   of the yield fluids, PIC/APIC/FLIP/MLS, linear/quadratic/cubic, USL/MUSL, 2D and 3D, every
   built-in stage (walls, plane, periodic, both dampings, box/sphere/cylinder/STL/terrain obstacles
-  with their recorded forces and the penetration guard), and saturated soil (backend/cuda_twophase.py:
+  with their recorded forces and the penetration guard), and saturated soil (schemes/saturated/cuda.py:
   a DP debris with pore water against an impermeable friction floor and a drained wall; its pore
   pressure and water velocity compared too, measured 4e-16).  Positions, velocities, stresses and
   densities must agree within 1e-9 relative (measured: <= 4.2e-13, the order of the atomics' sums),

@@ -26,6 +26,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("materials", "damping", "contact"),
     ("boundaries", "obstacles"),
     ("backend",),
+    ("schemes",),
     ("writers",),
     ("schema",),
     ("setup",),

@@ -12,7 +12,7 @@ from geompm.engine.scheduler import Simulation
 
 from .cases import CASES
 
-GAMMA_W = 1000.0 * 9.80665  # unit weight of water at standard gravity [N/m3] (setup/pore_water.py)
+GAMMA_W = 1000.0 * 9.80665  # unit weight of water at standard gravity [N/m3] (schemes/saturated/setup.py)
 TERZAGHI = json.loads((CASES / "terzaghi_consolidation.json").read_text())
 
 

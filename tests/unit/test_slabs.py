@@ -6,6 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from geompm.schemes.usl import Usl
+
 from geompm.errors import CaseError
 from geompm.mpm.state import ParticleState
 from geompm.parallel import halo
@@ -142,19 +144,30 @@ class _TwoRanks:
     size, rank, is_root = 2, 0, True
 
 
-@pytest.mark.parametrize("name,where,words", [
-    ("saturated_debris_obstacle", "materials", "saturated soil (pore water) runs in one process only"),
-    ("loaded_column", "boundaries", "sums particles outside its pass, so it cannot run on 2 MPI ranks"),
+class _OneProcessScheme(Usl):
+    """A scheme whose passes do not go through the decomposition (a plugin's, say)."""
+    name = "one_process_usl"
+    splits_over_ranks = False
+
+
+@pytest.mark.parametrize("name,scheme,where,words", [
+    ("debris_obstacle", _OneProcessScheme, "solver.update", "scheme 'one_process_usl' runs in one process only"),
+    ("loaded_column", None, "boundaries", "sums particles outside its pass, so it cannot run on 2 MPI ranks"),
 ])
-def test_what_cannot_be_shared_between_ranks_is_refused_before_any_work(name, where, words):
-    """Pore water (its passes are not split) and a surface load (it sums its loaded particles' mass on
-    the host) are refused on 2 ranks with a CaseError naming the case's place; one process runs them."""
+def test_what_cannot_be_shared_between_ranks_is_refused_before_any_work(name, scheme, where, words):
+    """A scheme that declares ``splits_over_ranks = False`` and a surface load (it sums its loaded particles'
+    mass on the host) are refused on 2 ranks with a CaseError naming the case's place; one process runs them.
+    The saturated scheme splits (tests/mpi/test_same_answers.py) and is not refused."""
     from geompm.parallel.slabs import Slabs
     from geompm.schema.load import load_case
     from geompm.setup.assemble import assemble
     from tests.support.cases import CASES
 
     scene = assemble(load_case(CASES / f"{name}.json", ["grid.cell_size=0.1"] if name == "loaded_column" else []))
+    if scheme is not None:
+        scene.scheme = scheme()
     with pytest.raises(CaseError) as exc:
         Slabs(_TwoRanks(), scene)
     assert any(p[0].startswith(where) and words in p[1] for p in exc.value.problems), exc.value.problems
+    saturated = assemble(load_case(CASES / "saturated_debris_obstacle.json"))
+    assert Slabs(_TwoRanks(), saturated).size == 2

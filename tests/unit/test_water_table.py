@@ -13,6 +13,7 @@ import math
 import numpy as np
 import pytest
 
+from geompm.mpm.water_table import NO_WATER_TABLE
 from geompm.api import scene_from_dict
 from geompm.engine.scheduler import Simulation
 from geompm.errors import CaseError
@@ -92,7 +93,7 @@ def test_a_layer_under_the_table_stays_at_rest_and_would_sink_without_its_pore_p
     for water_on in (True, False):
         sim = Simulation(scene_from_dict(layer_case()))
         if not water_on:
-            sim.water = None
+            sim.water = NO_WATER_TABLE
         for _ in range(200):
             sim.step(sim.stable_dt())
         speeds.append(float(np.abs(sim.state.p_v).max()))

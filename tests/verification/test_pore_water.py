@@ -1,4 +1,4 @@
-"""Saturated soil, two-phase MPM (kernels/twophase.py, docs/pore-water.md) against closed forms.
+"""Saturated soil, two-phase MPM (schemes/saturated/, docs/pore-water.md) against closed forms.
 
 References: hydrostatics; Terzaghi (1943) one-dimensional consolidation with the water's compressibility
 in c_v and in the undrained start (Verruijt, Soil Mechanics, ch. 15; the issue's stiff parameter set, after

@@ -1,4 +1,4 @@
-"""Saturated soil: the water's transfer and the free surface (kernels/twophase.py, docs/pore-water.md).
+"""Saturated soil: the water's transfer and the free surface (schemes/saturated/, docs/pore-water.md).
 
 A saturated block spinning rigidly without gravity keeps its angular momentum (solids and water) as APIC
 does for a dry one (Jiang et al. 2015, SIGGRAPH: APIC conserves angular momentum in the transfers); the

@@ -8,25 +8,25 @@ the effect of its water compressibility:
 from __future__ import annotations
 
 from geompm.backend.cpu_loops import law_wave_speed
-from geompm.backend.pore_speeds import drag_limit, saturated_speeds
-from geompm.kernels import twophase as tp
-from geompm.setup.pore_water import STANDARD_GRAVITY
+from geompm.schemes.saturated import kernels as tp
+from geompm.schemes.saturated.setup import STANDARD_GRAVITY
+from geompm.schemes.saturated.speeds import drag_limit, saturated_speeds
 
 #: the bulk modulus of water at 20 C [Pa]: a smaller K_w is a user's speed-up and is reported as such
 WATER_BULK_MODULUS = 2.2e9
 
 
-def pore_water_lines(scene) -> list[str]:
-    pw, st = scene.pore_water, scene.state
-    if pw is None or st.n == 0:
+def pore_water_lines(scene, pw) -> list[str]:
+    st = scene.state
+    if st.n == 0:
         return []
-    sp = saturated_speeds(scene, st)
+    sp = saturated_speeds(scene, st, pw)
     waves = {"undrained": "undrained wave sqrt((M + K_w/n) / rho_sat)", "water": "water's wave sqrt(K_w / rho_w)",
              "skeleton": "skeleton's wave (the law's, at the dry density)"}
     top = max(waves, key=lambda k: sp[k])
     lines = [f"pore water: the wave step is set by the {waves[top]}, {sp[top]:.4g} m/s (undrained "
              f"{sp['undrained']:.4g}, water {sp['water']:.4g}, skeleton {sp['skeleton']:.4g} m/s)"]
-    drag = drag_limit(scene, st)
+    drag = drag_limit(st, pw)
     if drag < float("inf"):
         lines.append(f"pore water: the drag is implicit and sets no limit; an explicit drag would need "
                      f"dt <= 2 k / (n g) = {drag:.3g} s")
@@ -35,9 +35,9 @@ def pore_water_lines(scene) -> list[str]:
             continue
         row = pw.table[k]
         modulus = law_wave_speed(mat, st.p_rho[s:e]) ** 2 * mat.density
-        cond = row[tp.KAPPA0] * row[tp.RHO_W] * STANDARD_GRAVITY / row[tp.MU_W]
-        gamma = row[tp.RHO_W] * STANDARD_GRAVITY
-        n0, kw = row[tp.N0], row[tp.K_W]
+        cond = row[tp.WATER.kappa0] * row[tp.WATER.rho_w] * STANDARD_GRAVITY / row[tp.WATER.mu_w]
+        gamma = row[tp.WATER.rho_w] * STANDARD_GRAVITY
+        n0, kw = row[tp.WATER.n0], row[tp.WATER.k_w]
         cv = cond / (gamma * (1.0 / modulus + n0 / kw))
         stiff = cond / (gamma / modulus)
         text = (f"materials.{name}.pore_water: c_v = {cv:.4g} m2/s (k = {cond:.3g} m/s, M = {modulus:.4g} Pa, "

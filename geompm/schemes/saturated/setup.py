@@ -1,4 +1,4 @@
-"""Saturated bodies at set-up: the pore-water table of the materials, each particle's water and the
+"""Saturated bodies at set-up (the saturated scheme's set-up hooks, schemes/saturated/scheme.py): the pore-water table of the materials, each particle's water and the
 initial pore pressure (docs/pore-water.md).
 
 A material with ``pore_water`` has ``density`` = the grains' density rho_s; the law runs with the dry
@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from geompm.kernels.twophase import K_W, KAPPA0, KOZENY, MU_W, N0, N_MAX, RHO_W
-from geompm.mpm.pore_water import PoreWater
+from geompm.schemes.saturated.fields import PoreWater
+from geompm.schemes.saturated.kernels import WALL, WATER
 
 #: standard gravity [m/s2], converting a hydraulic conductivity k to an intrinsic permeability
 #: kappa = k mu_w / (rho_w g0) (the conductivity is a property measured under standard gravity)
@@ -26,16 +26,16 @@ def material_table(case, names) -> PoreWater | None:
     specs = [case.materials[k].pore_water for k in names]
     if all(s is None for s in specs):
         return None
-    table = np.zeros((len(names), 7))
+    table = np.zeros((len(names), len(WATER)))
     for k, pw in enumerate(specs):
         if pw is None:
-            table[k, N_MAX] = 1.0
+            table[k, WATER.n_max] = 1.0
             continue
         f = pw.fluid
         kappa = pw.intrinsic_permeability
         if kappa is None:
             kappa = pw.hydraulic_conductivity * f.viscosity / (f.density * STANDARD_GRAVITY)
-        table[k, [RHO_W, K_W, MU_W, N0, KAPPA0, KOZENY, N_MAX]] = (
+        table[k, list(WATER)] = (
             f.density, f.bulk_modulus, f.viscosity, pw.porosity, kappa,
             1.0 if pw.permeability_update == "kozeny_carman" else 0.0, pw.max_porosity)
     g = np.asarray(case.gravity, float)
@@ -70,12 +70,23 @@ def body_water(body, pw: PoreWater, mid: int, pts: np.ndarray, h: float, ppc: in
     table = top if spec is None or spec.water_table is None else spec.water_table
     sat = (height <= table + 1e-9 * h).astype(float)
     excess = 0.0 if spec is None else spec.excess
-    hydrostatic = pw.table[mid, RHO_W] * pw.g * np.maximum(table - height, 0.0)
+    hydrostatic = pw.table[mid, WATER.rho_w] * pw.g * np.maximum(table - height, 0.0)
     return sat, np.full(n, table), sat * (excess + hydrostatic)
 
 
 def buoyant_mass(p_mass, p_vol, p_material, p_sat, pw: PoreWater) -> np.ndarray:
     """Each particle's weight in the overburden of geostatic effective stress [kg]: its solids, plus its
     water less the water it displaces (-(1 - n0) rho_w V0) where saturated."""
-    rho_w, n0 = pw.table[p_material, RHO_W], pw.table[p_material, N0]
+    rho_w, n0 = pw.table[p_material, WATER.rho_w], pw.table[p_material, WATER.n0]
     return p_mass + p_sat * (n0 * rho_w * p_vol - rho_w * p_vol)
+
+
+def wall_row(wall) -> np.ndarray:
+    """A water boundary (Stage.water_boundary: point, normal, layer, drained) as a row of kernels.WALL."""
+    point, normal, layer, drained = wall
+    row = np.zeros(len(WALL))
+    row[WALL.px:WALL.px + len(point)] = point
+    row[WALL.nx:WALL.nx + len(normal)] = normal
+    row[WALL.layer] = layer
+    row[WALL.drained] = 1.0 if drained else 0.0
+    return row

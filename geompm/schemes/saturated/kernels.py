@@ -24,20 +24,34 @@ the pore pressure follows the water's mass balance (pressure_increment, at the p
 with p = 0 on drained particles (at the free surface, at a drained boundary, separated or dry); the porosity
 follows the skeleton's volume, n = 1 - (1 - n0) V0 / V. Each particle carries its own sum of increments
 (p_pore_carried); the pressure that acts on the grid is that sum seen through the grid, S p_pore_carried
-(grid_smooth), and the increment passes through the same S: the exchange of energy between the pressure and
+(smooth_scatter, smooth_gather), and the increment passes through the same S: the exchange of energy between the pressure and
 the velocities then balances (docs/pore-water.md). Each pass is a per-item function (``*_one``) that the
-CPU loops below and the CUDA kernels (backend/cuda_twophase.py) call alike.
+CPU passes (schemes/saturated/cpu.py) and the CUDA kernels (schemes/saturated/cuda.py) call alike.
 """
 
 import math
 
 from numba import njit, prange
 
+from geompm.contract.layout import param_layout
 from geompm.kernels.chunks import zero_rows
 from geompm.kernels.shape import LINEAR, axis_stencil
 
-#: columns of a material's row in the pore-water table (setup/pore_water.py)
-RHO_W, K_W, MU_W, N0, KAPPA0, KOZENY, N_MAX = range(7)
+#: a material's row of the pore-water table (schemes/saturated/setup.py): the water's density [kg/m3], bulk
+#: modulus [Pa] and viscosity [Pa s], the initial porosity [-], the intrinsic permeability at it [m2], 1 for
+#: Kozeny-Carman's update of it (0: constant), the porosity past which the skeleton is separated [-]
+WATER = param_layout("rho_w", "k_w", "mu_w", "n0", "kappa0", "kozeny", "n_max")
+#: a node's row of the water's grid ``g_w`` (water_p2g): its mass [kg], momentum [kg m/s] and internal force
+#: sum V s n p grad N [N] per axis (z unused in 2D), the drag coefficient c = sum N D V [kg/s] and the
+#: particles' volume sum N V [m^d] (the free-surface fill)
+NODE_WATER = param_layout("mass", "mom_x", "mom_y", "mom_z", "force_x", "force_y", "force_z", "drag", "volume")
+#: the row's width, and the offsets of the per-axis columns: ``g_w[i, MOM + a]`` is the momentum along axis a
+WATER_WIDTH = len(NODE_WATER)
+MOM = NODE_WATER.mom_x
+FORCE = NODE_WATER.force_x
+#: a row of the water boundaries ``walls`` (schemes/saturated/setup.wall_row): a point of the wall's plane [m],
+#: its unit normal into the material, the layer [m] of nodes it binds, 1 for a drained wall (0 impermeable)
+WALL = param_layout("px", "py", "pz", "nx", "ny", "nz", "layer", "drained")
 #: a particle whose interpolated node fill (the particles' volume fraction around the nodes, the body
 #: mirrored in impermeable walls: node_fill) is below this is at the free surface or a drained boundary:
 #: its pore pressure is 0 (docs/pore-water.md). On a flat surface it flags the particles within about half
@@ -48,16 +62,16 @@ FREE_SURFACE_FILL = 0.78
 @njit(cache=True, inline="always")
 def permeability(row, n):
     """kappa(n) [m2]: kappa0, or Kozeny-Carman kappa0 n^3 (1 - n0)^2 / (n0^3 (1 - n)^2)."""
-    if row[KOZENY] == 0.0:
-        return row[KAPPA0]
-    n0 = row[N0]
-    return row[KAPPA0] * (n * n * n * (1.0 - n0) * (1.0 - n0)) / (n0 * n0 * n0 * (1.0 - n) * (1.0 - n))
+    if row[WATER.kozeny] == 0.0:
+        return row[WATER.kappa0]
+    n0 = row[WATER.n0]
+    return row[WATER.kappa0] * (n * n * n * (1.0 - n0) * (1.0 - n0)) / (n0 * n0 * n0 * (1.0 - n) * (1.0 - n))
 
 
 @njit(cache=True, inline="always")
 def wet(row, sat, n):
     """1.0 where the particle holds water under pressure: saturated and not separated (n <= n_max)."""
-    return sat if n <= row[N_MAX] else 0.0
+    return sat if n <= row[WATER.n_max] else 0.0
 
 
 @njit(cache=True, inline="always")
@@ -71,8 +85,8 @@ def prepare_one(p, p_stress, p_pore, p_n, p_sat, p_vol, p_material, table, p_tot
         p_total[p, k] = p_stress[p, k]
     for k in range(3):
         p_total[p, k] -= pp
-    p_wmass[p] = s * n * row[RHO_W] * p_vol[p]
-    p_drag[p] = s * n * n * row[MU_W] / permeability(row, n) * p_vol[p] if s > 0.0 else 0.0
+    p_wmass[p] = s * n * row[WATER.rho_w] * p_vol[p]
+    p_drag[p] = s * n * n * row[WATER.mu_w] / permeability(row, n) * p_vol[p] if s > 0.0 else 0.0
 
 
 @njit(parallel=True, cache=True)
@@ -171,20 +185,20 @@ def water_p2g(tag, p_x, p_vw, p_Cw, affine, p_wmass, p_drag, p_vol, p_n, p_pore,
                     for k in range(Sz):
                         wt = wij * wz[k]
                         idx = node_index(b, lo, nloc, i, j, k, d)
-                        g[idx, 0] += wt * m
-                        g[idx, 1 + d] += fx * wz[k]
-                        g[idx, 2 + d] += fy * wz[k]
+                        g[idx, NODE_WATER.mass] += wt * m
+                        g[idx, NODE_WATER.force_x] += fx * wz[k]
+                        g[idx, NODE_WATER.force_y] += fy * wz[k]
                         if d == 3:
                             ez = o2 + k * h
-                            g[idx, 1] += wt * (r0 + c02 * ez)
-                            g[idx, 2] += wt * (r1 + c12 * ez)
-                            g[idx, 3] += wt * (r2 + c22 * ez)
-                            g[idx, 6] += fz * dz[k]
+                            g[idx, NODE_WATER.mom_x] += wt * (r0 + c02 * ez)
+                            g[idx, NODE_WATER.mom_y] += wt * (r1 + c12 * ez)
+                            g[idx, NODE_WATER.mom_z] += wt * (r2 + c22 * ez)
+                            g[idx, NODE_WATER.force_z] += fz * dz[k]
                         else:
-                            g[idx, 1] += wt * r0
-                            g[idx, 2] += wt * r1
-                        g[idx, 1 + 2 * d] += wt * drag
-                        g[idx, 2 + 2 * d] += wt * vol
+                            g[idx, NODE_WATER.mom_x] += wt * r0
+                            g[idx, NODE_WATER.mom_y] += wt * r1
+                        g[idx, NODE_WATER.drag] += wt * drag
+                        g[idx, NODE_WATER.volume] += wt * vol
 
 
 @njit(cache=True, inline="always")
@@ -194,10 +208,10 @@ def node_mixture_one(i, g_mass, g_mom, g_w, mass_eps, g_rel):
     of water_p2g.  Out: g_rel <- w = v_w - v_s, g_mass <- m_s + m_w, g_mom <- m_s v_s + m_w v_w."""
     d = g_mom.shape[1]
     ms = g_mass[i]
-    mw = g_w[i, 0]
+    mw = g_w[i, NODE_WATER.mass]
     for a in range(d):
-        g_rel[i, a] = g_w[i, 1 + a] / mw - g_mom[i, a] / ms if ms > mass_eps and mw > mass_eps else 0.0
-        g_mom[i, a] += g_w[i, 1 + a]
+        g_rel[i, a] = g_w[i, MOM + a] / mw - g_mom[i, a] / ms if ms > mass_eps and mw > mass_eps else 0.0
+        g_mom[i, a] += g_w[i, MOM + a]
     g_mass[i] = ms + mw
 
 
@@ -217,15 +231,15 @@ def node_relative_one(i, g_mass, g_vel, g_vel_old, g_w, gravity, dt, mass_eps, g
     """
     d = g_vel.shape[1]
     big = g_mass[i]
-    mw = g_w[i, 0]
+    mw = g_w[i, NODE_WATER.mass]
     ms = big - mw
     for a in range(d):
         g_rel0[i, a] = g_rel[i, a]
     if ms > mass_eps and mw > mass_eps:
-        den = ms * mw + dt * g_w[i, 1 + 2 * d] * big
+        den = ms * mw + dt * g_w[i, NODE_WATER.drag] * big
         for a in range(d):
             acc = (g_vel[i, a] - g_vel_old[i, a]) / dt
-            rhs = ms * mw * g_rel[i, a] + dt * big * (g_w[i, 1 + d + a] + mw * (gravity[a] - acc))
+            rhs = ms * mw * g_rel[i, a] + dt * big * (g_w[i, FORCE + a] + mw * (gravity[a] - acc))
             g_rel[i, a] = rhs / den
     else:
         for a in range(d):
@@ -249,8 +263,8 @@ def node_of(i, lo, nloc, d):
 @njit(cache=True)
 def mirrored(x0, x1, x2, walls, k):
     """(x0, x1, x2) reflected in wall k's plane, and the signed distance from the plane."""
-    dist = (x0 - walls[k, 0]) * walls[k, 3] + (x1 - walls[k, 1]) * walls[k, 4] + (x2 - walls[k, 2]) * walls[k, 5]
-    return x0 - 2.0 * dist * walls[k, 3], x1 - 2.0 * dist * walls[k, 4], x2 - 2.0 * dist * walls[k, 5], dist
+    dist = (x0 - walls[k, WALL.px]) * walls[k, WALL.nx] + (x1 - walls[k, WALL.py]) * walls[k, WALL.ny] + (x2 - walls[k, WALL.pz]) * walls[k, WALL.nz]
+    return x0 - 2.0 * dist * walls[k, WALL.nx], x1 - 2.0 * dist * walls[k, WALL.ny], x2 - 2.0 * dist * walls[k, WALL.nz], dist
 
 
 @njit(cache=True)
@@ -268,7 +282,7 @@ def raw_fill_at(x0, x1, x2, g_w, origin, h, lo, nloc, d, cell_volume):
     idx = ix * nloc[1] + iy
     if d == 3:
         idx = idx * nloc[2] + iz
-    return g_w[idx, 2 + 2 * d] / cell_volume
+    return g_w[idx, NODE_WATER.volume] / cell_volume
 
 
 @njit(cache=True)
@@ -277,17 +291,17 @@ def one_node_fill(i, g_w, walls, origin, h, lo, nloc, d, cell_volume):
     x0 = origin[0] + ix * h
     x1 = origin[1] + iy * h
     x2 = origin[2] + iz * h if d == 3 else 0.0
-    f = g_w[i, 2 + 2 * d] / cell_volume
+    f = g_w[i, NODE_WATER.volume] / cell_volume
     reach = 2.0 * h  # beyond this no node of a mirrored particle's stencil comes back
     for k in range(walls.shape[0]):
-        if walls[k, 7] > 0.0:
+        if walls[k, WALL.drained] > 0.0:
             continue
         y0, y1, y2, dk = mirrored(x0, x1, x2, walls, k)
         if dk >= reach:
             continue
         f += raw_fill_at(y0, y1, y2, g_w, origin, h, lo, nloc, d, cell_volume)
         for j in range(k + 1, walls.shape[0]):
-            if walls[j, 7] > 0.0:
+            if walls[j, WALL.drained] > 0.0:
                 continue
             z0, z1, z2, dj = mirrored(y0, y1, y2, walls, j)
             if abs(dj) < reach:
@@ -334,34 +348,34 @@ def node_split_one(i, g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, walls, origin, 
     drained = False
     t0 = t1 = t2 = 0.0  # the part of w tangential to a drained wall
     for k in range(nw):
-        dist = (origin[0] + ix * h - walls[k, 0]) * walls[k, 3] + (origin[1] + iy * h - walls[k, 1]) * walls[k, 4]
+        dist = (origin[0] + ix * h - walls[k, WALL.px]) * walls[k, WALL.nx] + (origin[1] + iy * h - walls[k, WALL.py]) * walls[k, WALL.ny]
         if d == 3:
-            dist += (origin[2] + iz * h - walls[k, 2]) * walls[k, 5]
-        if dist <= walls[k, 6]:
+            dist += (origin[2] + iz * h - walls[k, WALL.pz]) * walls[k, WALL.nz]
+        if dist <= walls[k, WALL.layer]:
             bound = True
-            wn = w0 * walls[k, 3] + w1 * walls[k, 4] + w2 * walls[k, 5]
-            if walls[k, 7] > 0.0:
+            wn = w0 * walls[k, WALL.nx] + w1 * walls[k, WALL.ny] + w2 * walls[k, WALL.nz]
+            if walls[k, WALL.drained] > 0.0:
                 drained = True
-                mw = g_w[i, 0]
-                old = g_rel0[i, 0] * walls[k, 3] + g_rel0[i, 1] * walls[k, 4]
-                push = (g_w[i, 1 + d] + mw * gravity[0]) * walls[k, 3] + (g_w[i, 2 + d] + mw * gravity[1]) * walls[k, 4]
+                mw = g_w[i, NODE_WATER.mass]
+                old = g_rel0[i, 0] * walls[k, WALL.nx] + g_rel0[i, 1] * walls[k, WALL.ny]
+                push = (g_w[i, FORCE] + mw * gravity[0]) * walls[k, WALL.nx] + (g_w[i, FORCE + 1] + mw * gravity[1]) * walls[k, WALL.ny]
                 if d == 3:
-                    old += g_rel0[i, 2] * walls[k, 5]
-                    push += (g_w[i, 3 + d] + mw * gravity[2]) * walls[k, 5]
-                held = (mw * old + dt * push) / (mw + dt * g_w[i, 1 + 2 * d]) if mw > mass_eps else 0.0
-                t0, t1, t2 = w0 - wn * walls[k, 3], w1 - wn * walls[k, 4], w2 - wn * walls[k, 5]
-                w0, w1, w2 = t0 + held * walls[k, 3], t1 + held * walls[k, 4], t2 + held * walls[k, 5]
+                    old += g_rel0[i, 2] * walls[k, WALL.nz]
+                    push += (g_w[i, FORCE + 2] + mw * gravity[2]) * walls[k, WALL.nz]
+                held = (mw * old + dt * push) / (mw + dt * g_w[i, NODE_WATER.drag]) if mw > mass_eps else 0.0
+                t0, t1, t2 = w0 - wn * walls[k, WALL.nx], w1 - wn * walls[k, WALL.ny], w2 - wn * walls[k, WALL.nz]
+                w0, w1, w2 = t0 + held * walls[k, WALL.nx], t1 + held * walls[k, WALL.ny], t2 + held * walls[k, WALL.nz]
             else:
-                w0 -= wn * walls[k, 3]
-                w1 -= wn * walls[k, 4]
-                w2 -= wn * walls[k, 5]
+                w0 -= wn * walls[k, WALL.nx]
+                w1 -= wn * walls[k, WALL.ny]
+                w2 -= wn * walls[k, WALL.nz]
     changed = False
     for a in range(d):
         if g_vel[i, a] != g_vpre[i, a]:
             changed = True
     if changed and not bound:
         w0 = w1 = w2 = 0.0
-    mw = g_w[i, 0]
+    mw = g_w[i, NODE_WATER.mass]
     fw = mw / big
     fs = 1.0 - fw
     if drained:
@@ -481,8 +495,8 @@ def drained(row, sat, n, fill):
 def porosity_one(p, p_n, p_vol, p_vol0, p_material, table):
     """n = 1 - (1 - n0) V0 / V from particle p's skeleton volume after the step."""
     row = table[p_material[p]]
-    if row[N0] > 0.0:
-        p_n[p] = max(1.0 - (1.0 - row[N0]) * p_vol0[p] / p_vol[p], 1e-6)
+    if row[WATER.n0] > 0.0:
+        p_n[p] = max(1.0 - (1.0 - row[WATER.n0]) * p_vol0[p] / p_vol[p], 1e-6)
 
 
 @njit(parallel=True, cache=True)
@@ -502,7 +516,7 @@ def speed_terms_one(p, p_v, p_vw, p_n, p_rho, p_sat, row):
     for a in range(d):
         vs += p_v[p, a] * p_v[p, a]
         vw += p_vw[p, a] * p_vw[p, a]
-    return p_n[p] if s > 0.0 else 1.0, p_rho[p], p_rho[p] + s * p_n[p] * row[RHO_W], max(vs, vw)
+    return p_n[p] if s > 0.0 else 1.0, p_rho[p], p_rho[p] + s * p_n[p] * row[WATER.rho_w], max(vs, vw)
 
 
 @njit(parallel=True, cache=True)
@@ -535,15 +549,14 @@ def flag_drained(p_fill, p_sat, p_n, p_material, table, p_drained):
 
 
 @njit(parallel=True, cache=True)
-def grid_smooth(tag, p_x, p_val, p_drained, p_vol, origin, h, kind, lo, nloc, c_grid, g_p, p_out):
-    """p_out = S p_val: the field seen through the grid, p_out = sum_I N_I f_I with
-    f_I = sum N V f / sum N V over the particles that hold pressure (p_drained 0), and p_out = 0 on the
-    others.  S is self-adjoint in the particles' volume-weighted inner product, so a pressure and its
-    increment both seen through it exchange energy with the velocities without a residue (docs/pore-water.md)."""
+def smooth_scatter(tag, p_x, p_val, p_drained, p_vol, origin, h, kind, lo, nloc, c_grid, g_vp):
+    """The scatter of the smoothing S (smooth_gather): g_vp[i] = (sum N V, sum N V f) over the particles that
+    hold pressure (p_drained 0), summed over the private grids in chunk order.  On several ranks the
+    neighbours' partial sums are added to g_vp before smooth_gather (parallel/slabs.py)."""
     n = p_x.shape[0]
     d = p_x.shape[1]
     nchunks = c_grid.shape[0]
-    nn = g_p.shape[0]
+    nn = g_vp.shape[0]
     S = len(tag)
     inv_h = 1.0 / h
     Sz = S if d == 3 else 1
@@ -570,8 +583,20 @@ def grid_smooth(tag, p_x, p_val, p_drained, p_vol, origin, h, kind, lo, nloc, c_
         for c in range(nchunks):
             v += c_grid[c, i, 0]
             vp += c_grid[c, i, 1]
-        g_p[i] = vp / v if v > 0.0 else 0.0
-    for p in prange(n):
+        g_vp[i, 0] = v
+        g_vp[i, 1] = vp
+
+
+@njit(parallel=True, cache=True)
+def smooth_gather(tag, p_x, p_drained, g_vp, origin, h, kind, lo, nloc, g_p, p_out):
+    """p_out = S p_val: the field seen through the grid, p_out = sum_I N_I f_I with
+    f_I = sum N V f / sum N V (g_vp of smooth_scatter) over the particles that hold pressure, and p_out = 0
+    on the others.  S is self-adjoint in the particles' volume-weighted inner product, so a pressure and its
+    increment both seen through it exchange energy with the velocities without a residue (docs/pore-water.md)."""
+    S = len(tag)
+    for i in prange(g_p.shape[0]):
+        g_p[i] = g_vp[i, 1] / g_vp[i, 0] if g_vp[i, 0] > 0.0 else 0.0
+    for p in prange(p_x.shape[0]):
         smooth_gather_one(p, S, p_x, p_drained, g_p, origin, h, kind, lo, nloc, p_out)
 
 
@@ -598,7 +623,7 @@ def pressure_increment_one(p, p_dp, p_divw, p_divs, p_n, p_material, table, dt):
     """Particle p: the water's mass balance, dp = -dt K_w / n [(1 - n) div v_s + n div v_w], before it moves."""
     row = table[p_material[p]]
     n = p_n[p]
-    p_dp[p] = -dt * row[K_W] / n * ((1.0 - n) * p_divs[p] + n * p_divw[p]) if n > 0.0 else 0.0
+    p_dp[p] = -dt * row[WATER.k_w] / n * ((1.0 - n) * p_divs[p] + n * p_divw[p]) if n > 0.0 else 0.0
 
 
 @njit(parallel=True, cache=True)

@@ -1,35 +1,38 @@
-"""The CPU backend's passes for saturated soil (kernels/twophase.py; docs/pore-water.md).
+"""The saturated scheme's passes on the CPU backend (schemes/saturated/kernels.py; docs/pore-water.md).
 
-A scene with pore water runs the CPU backend's own P2G (the solids, from the total stress), grid update,
-stages and G2P (the solids) with these passes around them (engine/scheduler.py, ``_step_saturated``):
+The scheme (schemes/saturated/scheme.py) runs the CPU backend's own P2G (the solids, from the total stress),
+grid update, stages and G2P (the solids) with these passes around them:
 
-    p2g (the acting pressure p = S p_carried through grid_smooth, prepare, solid P2G on the total stress,
-    water P2G, node fill, node_mixture) -> grid update (the mixture) -> stages before BOUNDARY -> snapshot
-    (node_relative) -> BOUNDARY and OBSTACLE stages -> split (node_split) -> water_g2p (water G2P,
-    flag_drained, pressure_increment, its increment through grid_smooth, add_increment to both pressures)
-    -> solid G2P -> particle stages -> porosity (porosity_update) -> effective-stress update (the laws,
-    unchanged)
+    p2g (the acting pressure p = S p_carried through smooth_scatter and smooth_gather, prepare, solid P2G on
+    the total stress, water P2G, the halo summed, node fill, node_mixture) -> grid update (the mixture) ->
+    stages before BOUNDARY -> snapshot (node_relative) -> BOUNDARY and OBSTACLE stages -> split (node_split)
+    -> water_g2p (water G2P, flag_drained, pressure_increment, its increment through the smoothing,
+    add_increment to both pressures) -> solid G2P -> particle stages -> porosity (porosity_update) ->
+    effective-stress update (the laws, unchanged)
 
-The CUDA backend runs the same passes (backend/cuda_twophase.py) around the same per-item functions.
-
-A scene without pore water never makes this object: its step is the dry one, unchanged.
+``halo(arrays)`` adds the neighbouring ranks' partial sums of window arrays on the nodes they share
+(parallel/slabs.py; nothing in one process): after every scatter and before anything reads its sums.
+The CUDA backend runs the same passes (schemes/saturated/cuda.py) around the same per-item functions.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from geompm.kernels import twophase as tp
+from geompm.schemes.saturated import kernels as tp
 from geompm.kernels.stencil import AFFINE
 
 
 class SaturatedCpu:
-    def __init__(self, cpu):
+    #: the CPU keeps every particle array on the host
+    device_arrays = ()
+
+    def __init__(self, cpu, water):
         self.cpu = cpu
         self.scene = cpu.scene
-        self.pw = self.scene.pore_water
+        self.pw = water
         d = self.scene.dim
-        self.width = 2 * d + 3
+        self.width = tp.WATER_WIDTH
         self.nchunks = cpu.buffers.nchunks
         self.cap = 0
         self.n = -1
@@ -42,6 +45,7 @@ class SaturatedCpu:
         self.cap = cap
         self.c_w = np.zeros((self.nchunks, cap, self.width))
         self.g_w = np.zeros((cap, self.width))
+        self.g_vp = np.zeros((cap, 2))
         self.g_rel = np.zeros((cap, d))
         self.g_rel0 = np.zeros((cap, d))
         self.g_vw = np.zeros((cap, d))
@@ -63,7 +67,8 @@ class SaturatedCpu:
             self.p_dps = np.zeros(n)
 
     def nbytes(self) -> int:
-        return sum(a.nbytes for a in (self.c_w, self.g_w, self.g_rel, self.g_rel0, self.g_vw, self.g_vpre, self.g_fill, self.g_p)) + (
+        grid = (self.c_w, self.g_w, self.g_vp, self.g_rel, self.g_rel0, self.g_vw, self.g_vpre, self.g_fill, self.g_p)
+        return sum(a.nbytes for a in grid) + (
             0 if self.n < 0 else sum(a.nbytes for a in (self.p_total, self.p_wmass, self.p_drag, self.p_divw,
                                                          self.p_divs, self.p_dp, self.p_fill,
                                                          self.p_dps)))
@@ -74,15 +79,23 @@ class SaturatedCpu:
             self._grid(int(nn * 1.25) + 64)
         return nn
 
-    def p2g(self, view) -> None:
+    def _smooth(self, view, halo, p_val, p_out) -> None:
+        """p_out = S p_val, the field seen through the grid (kernels.smooth_scatter, smooth_gather)."""
+        st, g, nn = self.cpu.state, self.scene.grid, view.g_mass.shape[0]
+        tp.smooth_scatter(self.cpu.tag, st.p_x, p_val, st.p_drained, st.p_vol, g.origin, g.h, g.kind, view.lo,
+                          view.nloc, self.c_w[:, :nn], self.g_vp[:nn])
+        halo((self.g_vp[:nn],))
+        tp.smooth_gather(self.cpu.tag, st.p_x, st.p_drained, self.g_vp[:nn], g.origin, g.h, g.kind, view.lo,
+                         view.nloc, self.g_p[:nn], p_out)
+
+    def p2g(self, view, halo) -> None:
         """Both phases onto the grid; leaves the mixture on the view (mass, momentum, internal force), the
         relative velocity w in g_rel and the nodes' fill."""
         cpu, st, g, pw = self.cpu, self.cpu.state, self.scene.grid, self.pw
         self._particles()
         nn = self._nodes(view)
         if self.smoothing:
-            tp.grid_smooth(cpu.tag, st.p_x, st.p_pore_carried, st.p_drained, st.p_vol, g.origin, g.h, g.kind,
-                           view.lo, view.nloc, self.c_w[:, :nn], self.g_p[:nn], st.p_pore)
+            self._smooth(view, halo, st.p_pore_carried, st.p_pore)
         tp.prepare(st.p_stress, st.p_pore, st.p_n, st.p_sat, st.p_vol, st.p_material, pw.table, self.p_total,
                    self.p_wmass, self.p_drag)
         cpu.p2g_kernel(cpu.tag, cpu.scheme, st.p_x, st.p_v, st.p_C, st.p_mass, st.p_vol, self.p_total, g.origin,
@@ -92,6 +105,7 @@ class SaturatedCpu:
                      st.p_material, pw.table, g.origin, g.h, g.kind, view.lo, view.nloc, self.c_w[:, :nn],
                      self.g_w[:nn])
         tp.sum_chunks(self.c_w[:, :nn], self.g_w[:nn])
+        halo((view.g_mass, view.g_mom, view.g_force, self.g_w[:nn]))
         tp.node_fill(self.g_w[:nn], pw.walls, g.origin, g.h, view.lo, view.nloc, g.h ** self.scene.dim,
                      self.g_fill[:nn])
         tp.node_mixture(view.g_mass, view.g_mom, self.g_w[:nn], cpu.mass_eps, self.g_rel[:nn])
@@ -111,7 +125,7 @@ class SaturatedCpu:
                       self.pw.walls, g.origin, g.h, view.lo, view.nloc, self.scene.gravity, dt, self.cpu.mass_eps,
                       self.g_vw[:nn])
 
-    def water_g2p(self, view, dt: float) -> None:
+    def water_g2p(self, view, dt: float, halo) -> None:
         """The water's particle velocity and the pore pressure's step, at the particles before they move."""
         st, g, nn, pw = self.cpu.state, self.scene.grid, view.g_vel.shape[0], self.pw
         tp.water_g2p(self.cpu.tag, st.p_x, st.p_vw, st.p_Cw, self.affine, self.scene.apic_dinv, self.p_divw,
@@ -121,8 +135,7 @@ class SaturatedCpu:
         tp.pressure_increment(self.p_dp, self.p_divw, self.p_divs, st.p_n, st.p_material, pw.table, dt)
         dp = self.p_dp
         if self.smoothing:
-            tp.grid_smooth(self.cpu.tag, st.p_x, self.p_dp, st.p_drained, st.p_vol, g.origin, g.h, g.kind, view.lo,
-                           view.nloc, self.c_w[:, :nn], self.g_p[:nn], self.p_dps)
+            self._smooth(view, halo, self.p_dp, self.p_dps)
             dp = self.p_dps
         tp.add_increment(st.p_pore_carried, st.p_pore, dp, st.p_drained)
 

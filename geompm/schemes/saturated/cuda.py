@@ -1,9 +1,9 @@
-"""The CUDA backend's passes for saturated soil: the GPU twin of backend/twophase_cpu.py (docs/pore-water.md).
+"""The saturated scheme's passes on the CUDA backend: the GPU twin of schemes/saturated/cpu.py (docs/pore-water.md).
 
-The same passes in the same order (engine/scheduler._step_saturated). The node passes (mixture, relative
+The same passes in the same order (schemes/saturated/scheme.py). The node passes (mixture, relative
 velocity, fill, split), the gathers (the water's G2P, the pressure seen through the grid) and the particle
 passes (total stress, drained flag, pressure increment, porosity, the stable step's terms) call the very
-per-item functions of kernels/twophase.py that the CPU loops inline: one source for both backends, one
+per-item functions of schemes/saturated/kernels.py that the CPU loops inline: one source for both backends, one
 thread per node or particle. The two scatters, the water's P2G and the smoothing's P2G, add into one grid
 with atomics, as the solid's P2G does (cuda_kernels.p2g), so their sums are taken in thread order: results
 equal the CPU's to round-off (tests/cuda/cuda_parity.py, scene ``saturated``).
@@ -18,10 +18,10 @@ from numba import cuda, float64, int64
 
 from geompm.backend import cuda_kernels as K
 from geompm.backend.cuda_loops import simulated, simulator_call
-from geompm.kernels import twophase as tp
+from geompm.schemes.saturated import kernels as tp
 from geompm.kernels.stencil import AFFINE
 
-#: the particle arrays of saturated soil that live on the device beside cuda.DEVICE_ARRAYS
+#: the particle arrays of saturated soil that live on the device beside backend/cuda.DEVICE_ARRAYS
 SATURATED_ARRAYS = ("p_vw", "p_Cw", "p_pore", "p_pore_carried", "p_n", "p_sat", "p_drained", "p_vol0",
                     "p_material")
 
@@ -93,7 +93,7 @@ def porosity(p_n, p_vol, p_vol0, p_material, table):
 @cuda.jit
 def speed_terms(p_v, p_vw, p_n, p_rho, p_sat, row, start, end, out):
     """out <- (min n of the wet particles, max dry density, min saturated density, max squared speed) over
-    the particles start..end of one material (kernels/twophase.speed_bounds on the CPU)."""
+    the particles start..end of one material (kernels.speed_bounds on the CPU)."""
     p = start + cuda.grid(1)
     if p >= end:
         return
@@ -109,7 +109,7 @@ def speed_terms(p_v, p_vw, p_n, p_rho, p_sat, row, start, end, out):
 def water_p2g(S, p_x, p_vw, p_Cw, affine, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material, table, origin,
               h, kind, lo, nloc, g_w):
     """The water onto the grid: rows [m_w, m_w (v_w + C_w (x_I - x_p)) (d), s n p V grad N (d), c, V] as
-    kernels/twophase.water_p2g; one thread per particle, every entry added with a global atomic."""
+    kernels.water_p2g; one thread per particle, every entry added with a global atomic."""
     p = cuda.grid(1)
     if p >= p_x.shape[0]:
         return
@@ -123,21 +123,21 @@ def water_p2g(S, p_x, p_vw, p_Cw, affine, p_wmass, p_drag, p_vol, p_n, p_pore, p
         idx, wt = K._node(s, S, d, base, lo, nloc, w, dw, k, gw)
         for a in range(d):
             dx[a] = (base[a] + k[a]) * h + origin[a] - p_x[p, a]
-        cuda.atomic.add(g_w, (idx, 0), wt * m)
+        cuda.atomic.add(g_w, (idx, tp.NODE_WATER.mass), wt * m)
         for a in range(d):
             mv = p_vw[p, a]
             if affine:
                 for b in range(d):
                     mv += p_Cw[p, a, b] * dx[b]
-            cuda.atomic.add(g_w, (idx, 1 + a), wt * m * mv)
-            cuda.atomic.add(g_w, (idx, 1 + d + a), npv * gw[a])
-        cuda.atomic.add(g_w, (idx, 1 + 2 * d), wt * drag)
-        cuda.atomic.add(g_w, (idx, 2 + 2 * d), wt * vol)
+            cuda.atomic.add(g_w, (idx, tp.MOM + a), wt * m * mv)
+            cuda.atomic.add(g_w, (idx, tp.FORCE + a), npv * gw[a])
+        cuda.atomic.add(g_w, (idx, tp.NODE_WATER.drag), wt * drag)
+        cuda.atomic.add(g_w, (idx, tp.NODE_WATER.volume), wt * vol)
 
 
 @cuda.jit
 def smooth_scatter(S, p_x, p_val, p_drained, p_vol, origin, h, kind, lo, nloc, g_s):
-    """g_s[I] += (N V, N V f) of the particles that hold pressure (kernels/twophase.grid_smooth's P2G)."""
+    """g_s[I] += (N V, N V f) of the particles that hold pressure (kernels.smooth_scatter)."""
     p = cuda.grid(1)
     if p >= p_x.shape[0] or p_drained[p] != 0.0:
         return
@@ -209,14 +209,15 @@ def node_split(g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, walls, origin, h, lo, 
 
 
 class SaturatedCuda:
-    """The saturated passes on the device (their CPU twin: backend/twophase_cpu.SaturatedCpu)."""
+    """The saturated passes on the device (their CPU twin: schemes/saturated/cpu.SaturatedCpu)."""
 
-    def __init__(self, backend):
+    device_arrays = SATURATED_ARRAYS
+
+    def __init__(self, backend, water):
         self.be = backend
         self.scene = backend.scene
-        self.pw = self.scene.pore_water
-        d = self.scene.dim
-        self.width = 2 * d + 3
+        self.pw = water
+        self.width = tp.WATER_WIDTH
         self.smoothing = bool(self.pw.smoothing)
         self.affine = self.scene.transfer in AFFINE
         self.table = cuda.to_device(np.ascontiguousarray(self.pw.table, dtype=np.float64))
@@ -259,17 +260,18 @@ class SaturatedCuda:
             self._grid(int(nn * 1.25) + 64)
         return nn
 
-    def _smooth(self, dev, lo, nloc, nn, p_val, p_out):
-        """p_out = S p_val (kernels/twophase.grid_smooth)."""
+    def _smooth(self, dev, lo, nloc, nn, p_val, p_out, view, halo):
+        """p_out = S p_val (kernels.smooth_scatter, smooth_gather)."""
         be, g, n = self.be, self.scene.grid, self.n
         zero_rows[K.blocks(nn), K.THREADS](self.g_s[:nn])
         smooth_scatter[K.blocks(n), K.THREADS](be.S, dev["p_x"], p_val, dev["p_drained"], dev["p_vol"], be._origin,
                                                g.h, g.kind, lo, nloc, self.g_s[:nn])
+        halo((self.g_s[:nn],))
         smooth_nodes[K.blocks(nn), K.THREADS](self.g_s[:nn], self.g_p[:nn])
         smooth_gather[K.blocks(n), K.THREADS](be.S, dev["p_x"], dev["p_drained"], self.g_p[:nn], be._origin, g.h,
                                               g.kind, lo, nloc, p_out)
 
-    def p2g(self, view) -> None:
+    def p2g(self, view, halo) -> None:
         be, st, g = self.be, self.be.state, self.scene.grid
         dev = be._device()
         n = st.n
@@ -280,7 +282,7 @@ class SaturatedCuda:
         zero_rows[K.blocks(nn), K.THREADS](self.g_w[:nn])
         if n:
             if self.smoothing:
-                self._smooth(dev, lo, nloc, nn, dev["p_pore_carried"], dev["p_pore"])
+                self._smooth(dev, lo, nloc, nn, dev["p_pore_carried"], dev["p_pore"], view, halo)
             prepare[K.blocks(n), K.THREADS](dev["p_stress"], dev["p_pore"], dev["p_n"], dev["p_sat"], dev["p_vol"],
                                             dev["p_material"], self.table, self.p_total, self.p_wmass, self.p_drag)
             K.p2g[K.blocks(n), K.THREADS](be.S, be.mode, dev["p_x"], dev["p_v"], dev["p_C"], dev["p_mass"],
@@ -290,6 +292,7 @@ class SaturatedCuda:
                                               self.p_drag, dev["p_vol"], dev["p_n"], dev["p_pore"], dev["p_sat"],
                                               dev["p_material"], self.table, be._origin, g.h, g.kind, lo, nloc,
                                               self.g_w[:nn])
+        halo((view.g_mass, view.g_mom, view.g_force, self.g_w[:nn]))
         node_fill[K.blocks(nn), K.THREADS](self.g_w[:nn], self.walls, be._origin, g.h, lo, nloc,
                                            g.h ** self.scene.dim, self.g_fill[:nn])
         node_mixture[K.blocks(nn), K.THREADS](view.g_mass, view.g_mom, self.g_w[:nn], be.mass_eps, self.g_rel[:nn])
@@ -307,7 +310,7 @@ class SaturatedCuda:
                                             cuda.to_device(view.lo), cuda.to_device(view.nloc), self.be._gravity, dt,
                                             self.be.mass_eps, self.g_vw[:nn])
 
-    def water_g2p(self, view, dt: float) -> None:
+    def water_g2p(self, view, dt: float, halo) -> None:
         be, g, nn, n = self.be, self.scene.grid, view.g_vel.shape[0], self.n
         if n <= 0:
             return
@@ -323,7 +326,7 @@ class SaturatedCuda:
                                               self.table, dt)
         dp = self.p_dp
         if self.smoothing:
-            self._smooth(dev, lo, nloc, nn, self.p_dp, self.p_dps)
+            self._smooth(dev, lo, nloc, nn, self.p_dp, self.p_dps, view, halo)
             dp = self.p_dps
         add_increment[blocks, K.THREADS](dev["p_pore_carried"], dev["p_pore"], dp, dev["p_drained"])
 
@@ -334,7 +337,7 @@ class SaturatedCuda:
             porosity[K.blocks(n), K.THREADS](dev["p_n"], dev["p_vol"], dev["p_vol0"], dev["p_material"], self.table)
 
     def wave_speed(self, law_speeds) -> float:
-        """The largest of the undrained, water and skeleton wave speeds (backend/pore_speeds.saturated_speeds)
+        """The largest of the undrained, water and skeleton wave speeds (schemes/saturated/speeds.py)
         from one reduction per material block; ``law_speeds[k]``: the law's speed over block k's densities."""
         be, st, pw = self.be, self.be.state, self.pw
         dev = be._device()
@@ -353,6 +356,6 @@ class SaturatedCuda:
             if n_min >= 1.0:
                 continue
             row = pw.table[k]
-            best = max(best, math.sqrt((c * c * rho_d + row[tp.K_W] / n_min) / rho_sat),
-                       math.sqrt(row[tp.K_W] / row[tp.RHO_W]))
+            best = max(best, math.sqrt((c * c * rho_d + row[tp.WATER.k_w] / n_min) / rho_sat),
+                       math.sqrt(row[tp.WATER.k_w] / row[tp.WATER.rho_w]))
         return best

@@ -1,4 +1,4 @@
-"""The wave speeds of saturated soil, for the stable step (backend/timestep.py; docs/pore-water.md).
+"""The wave speeds of saturated soil, for the stable step (the scheme's wave_speed; docs/pore-water.md).
 
 An explicit step of the two-phase equations is bounded by the fastest of three waves:
 
@@ -10,7 +10,7 @@ An explicit step of the two-phase equations is bounded by the fastest of three w
 M comes from the law's own speed: M = c_s^2 rho_d (rho_d = the solids' mass per volume, the particle
 density the law sees).  Each is bounded over a material's particles by its extremes (the smallest n and
 saturated density, the largest dry density), as the dry step bounds a law's speed by the block's densities.
-The drag, taken implicitly on the nodes (kernels/twophase.node_relative), sets no bound.
+The drag, taken implicitly on the nodes (kernels.node_relative), sets no bound.
 """
 
 from __future__ import annotations
@@ -20,13 +20,12 @@ import math
 import numpy as np
 
 from geompm.backend.cpu_loops import law_wave_speed
-from geompm.kernels import twophase as tp
+from geompm.schemes.saturated import kernels as tp
 
 
-def saturated_speeds(scene, state) -> dict[str, float]:
+def saturated_speeds(scene, state, pw) -> dict[str, float]:
     """{'undrained', 'water', 'skeleton', 'flow'} [m/s]: the three wave speeds of the module docstring,
     largest over the particles, and the largest speed of either phase."""
-    pw = scene.pore_water
     out = {"undrained": 0.0, "water": 0.0, "skeleton": 0.0, "flow": 0.0}
     if state.n == 0:
         return out
@@ -41,21 +40,20 @@ def saturated_speeds(scene, state) -> dict[str, float]:
         out["flow"] = max(out["flow"], flow)
         if not pw.wet[k] or n_min >= 1.0:
             continue
-        out["undrained"] = max(out["undrained"], math.sqrt((c * c * rho_d + row[tp.K_W] / n_min) / rho_sat))
-        out["water"] = max(out["water"], math.sqrt(row[tp.K_W] / row[tp.RHO_W]))
+        out["undrained"] = max(out["undrained"], math.sqrt((c * c * rho_d + row[tp.WATER.k_w] / n_min) / rho_sat))
+        out["water"] = max(out["water"], math.sqrt(row[tp.WATER.k_w] / row[tp.WATER.rho_w]))
     return out
 
 
-def drag_limit(scene, state) -> float:
+def drag_limit(state, pw) -> float:
     """The step an explicit drag would need, 2 m_w / c = 2 rho_w kappa(n) / (n mu_w) [s], at the particle
     where it is smallest (reported by `geompm validate`; the drag is implicit, so it does not bind)."""
-    pw = scene.pore_water
     wet = state.p_sat > 0
     if not wet.any():
         return float("inf")
     rows = pw.table[state.p_material[wet]]
     n = state.p_n[wet].astype(float)
-    n0 = rows[:, tp.N0]
-    kozeny = n ** 3 * (1.0 - n0) ** 2 / (n0 ** 3 * (1.0 - n) ** 2)  # kernels/twophase.permeability, vectorised
-    kappa = rows[:, tp.KAPPA0] * np.where(rows[:, tp.KOZENY] > 0.0, kozeny, 1.0)
-    return float(np.min(2.0 * rows[:, tp.RHO_W] * kappa / (n * rows[:, tp.MU_W])))
+    n0 = rows[:, tp.WATER.n0]
+    kozeny = n ** 3 * (1.0 - n0) ** 2 / (n0 ** 3 * (1.0 - n) ** 2)  # kernels.permeability, vectorised
+    kappa = rows[:, tp.WATER.kappa0] * np.where(rows[:, tp.WATER.kozeny] > 0.0, kozeny, 1.0)
+    return float(np.min(2.0 * rows[:, tp.WATER.rho_w] * kappa / (n * rows[:, tp.WATER.mu_w])))

@@ -1,0 +1,38 @@
+"""What the saturated scheme cannot run, and what it advises against (docs/pore-water.md, Limits).
+
+Refused, each with its JSON path and what to use instead: FLIP (the water's transfer follows the solid's
+affine matrix) and a stage that merges grid nodes (a periodic axis).  Warned: APIC or MLS above FLOW_CFL.
+"""
+
+from __future__ import annotations
+
+from geompm.contract.stages import MERGE
+from geompm.kernels.stencil import AFFINE
+
+
+#: the largest CFL number at which the saturated APIC/MLS step's flows are converged in time (docs/pore-water.md)
+FLOW_CFL = 0.1
+
+
+def flow_warnings(case) -> list[tuple[str, str]]:
+    """(JSON path, sentence): a saturated case with APIC or MLS above FLOW_CFL (warned, not refused: a
+    quasi-static case, consolidation, is verified at 0.4)."""
+    if case.solver.transfer not in AFFINE or case.time.dt is not None:
+        return []
+    if case.time.cfl <= FLOW_CFL:
+        return []
+    return [("time.cfl", f"{case.time.cfl:g} with saturated soil and '{case.solver.transfer}': a flowing "
+                         f"saturated debris converges in time only at cfl <= {FLOW_CFL:g} (a 2D flume's front "
+                         "at 1.2 s is 25 % short at cfl 0.4 and 6 % at 0.2, docs/pore-water.md); set "
+                         f"time.cfl to {FLOW_CFL:g} for a flow (quasi-static consolidation is verified at 0.4)")]
+
+
+def unsupported(case, loaded) -> list[tuple[str, str]]:
+    out = []
+    why = "is not implemented for saturated materials (docs/pore-water.md, Limits)"
+    if case.solver.transfer == "flip":
+        out.append(("solver.transfer", f"'flip' {why}; use \"apic\", \"mls\" or \"pic\""))
+    for r in loaded.boundaries + loaded.obstacles + loaded.damping:
+        if r.cls.phase == MERGE:
+            out.append((r.path, f"'{r.cls.name}' merges grid nodes (a periodic axis), which {why}; use walls"))
+    return out

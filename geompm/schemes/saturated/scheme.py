@@ -1,0 +1,156 @@
+"""Saturated soil: one point, two velocities, explicit in time (docs/pore-water.md; Zienkiewicz et al. 1980;
+Bandara & Soga 2015, Computers and Geotechnics 63:199).
+
+One step, the grid holding the mixture while the stages act, then the solid and the water taking their own
+velocities (the passes: schemes/saturated/cpu.py and cuda.py around the per-item functions of kernels.py):
+
+    window -> p2g (pressure smoothed, total stress, both phases, halo summed, fill, mixture)
+    -> grid update (the mixture, + gravity) -> grid stages before BOUNDARY (loads, damping)
+    -> snapshot (relative velocity, drag implicit) -> BOUNDARY and OBSTACLE stages
+    -> split (solid and water velocities, walls' water rules) -> water G2P and the pressure's increment
+    -> solid G2P -> particle stages -> porosity -> effective-stress update (the laws, unchanged)
+
+Every scatter is summed over the ranks' halo before it is read, so the step runs on several MPI ranks as the
+dry ones do (docs/parallel.md).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from geompm.contract.stages import BOUNDARY
+from geompm.schemes.base import Scheme
+from geompm.schemes.saturated import checks, setup
+from geompm.schemes.saturated.fields import FIELDS
+from geompm.schemes.saturated.kernels import WALL, WATER
+
+#: the backend's passes of the scheme, by backend name (imported when a backend of that name asks)
+PASSES = {"cpu": ("geompm.schemes.saturated.cpu", "SaturatedCpu"),
+          "cuda": ("geompm.schemes.saturated.cuda", "SaturatedCuda")}
+
+
+class Saturated(Scheme):
+    name = "saturated"
+    description = "saturated soil, one point and two velocities (docs/pore-water.md)"
+    pore_water = True
+    default = True
+    split_force = True
+    fields = FIELDS
+    body_width = 3  # saturated flag, water-table height, pore pressure (setup.body_water)
+
+    @classmethod
+    def problems(cls, case, loaded):
+        return checks.unsupported(case, loaded)
+
+    @classmethod
+    def warnings(cls, case):
+        return checks.flow_warnings(case)
+
+    def __init__(self, case=None, names=()):
+        #: the resolved pore water (fields.PoreWater): the materials' table, gravity, walls
+        self.water = setup.material_table(case, list(names)) if case is not None else None
+
+    def law_params(self, case, name, params):
+        return setup.skeleton_params(case, name, params)
+
+    def body_arrays(self, body, mid, pts, h, ppc):
+        return setup.body_water(body, self.water, mid, pts, h, ppc)
+
+    def overburden_mass(self, p_mass, p_vol, p_material, arrays):
+        return setup.buoyant_mass(p_mass, p_vol, p_material, arrays[0], self.water)
+
+    def init_fields(self, state, arrays) -> None:
+        state.p_sat, state.p_wt, state.p_pore = (np.ascontiguousarray(a) for a in arrays)
+        state.p_pore_carried = state.p_pore.copy()
+        state.p_drained = 1.0 - state.p_sat
+        state.p_vw = state.p_v.copy()
+        state.p_Cw = np.zeros_like(state.p_C)
+        state.p_n = self.water.table[state.p_material, WATER.n0].copy()
+
+    def after_stages(self, scene) -> None:
+        rows = [setup.wall_row(s.water_boundary()) for s in scene.stages if s.water_boundary() is not None]
+        self.water.walls = np.array(rows).reshape(-1, len(WALL))
+
+    def backend_passes(self, backend):
+        import importlib
+
+        if backend.name not in PASSES:
+            raise NotImplementedError(f"the saturated scheme has no passes for the '{backend.name}' backend")
+        module, cls = PASSES[backend.name]
+        return getattr(importlib.import_module(module), cls)(backend, self.water)
+
+    def step(self, run, dt: float) -> None:
+        be = run.backend
+        wet = be.passes
+        view = run.window()
+
+        def halo(arrays):
+            run.domain.sum_halo(view, arrays)
+
+        wet.p2g(view, halo)
+        be.grid_update(view, dt)
+        run.grid_stages_run(view, dt, phases=(-math.inf, BOUNDARY))
+        wet.snapshot(view, dt)
+        run.grid_stages_run(view, dt, phases=(BOUNDARY, math.inf))
+        wet.split(view, dt)
+        wet.water_g2p(view, dt, halo)
+        be.g2p(view, dt, set_velocity=True, move=True, gradient=True)
+        be.particle_stages(run.particle_stages, dt, run.time)
+        wet.porosity()
+        run.advance(view, dt)
+
+    def wave_speed(self, scene, state, finite_only: bool = False) -> float:
+        from geompm.schemes.saturated.speeds import saturated_speeds
+
+        speeds = saturated_speeds(scene, state, self.water)
+        return max(speeds["undrained"], speeds["water"], speeds["skeleton"])
+
+    def series(self, run) -> dict[str, float]:
+        """``max_excess_pore_pressure`` [Pa] over the particles of every rank, and per body
+        (``..._body<b>``) where a scene has more than one (docs/pore-water.md)."""
+        st, sc, top = run.state, run.scene, run.domain.comm.max
+        excess = self.water.excess(st)
+        nb = len(sc.body_materials)
+        row = np.full(1 + (nb if nb > 1 else 0), -np.inf)
+        if st.n:
+            row[0] = excess.max()
+            for b in range(row.size - 1):
+                mine = excess[st.p_body == b]
+                row[1 + b] = mine.max() if mine.size else -np.inf
+        row = top(row)
+        out = {"max_excess_pore_pressure": float(row[0]) if np.isfinite(row[0]) else float("nan")}
+        for b in range(row.size - 1):
+            out[f"max_excess_pore_pressure_body{b}"] = float(row[1 + b]) if np.isfinite(row[1 + b]) else float("nan")
+        return out
+
+    def point_data(self, run, st) -> dict:
+        """The pore water's fields: pore pressure p and its excess over the hydrostatic
+        p_h = rho_w |g| (z_wt - z) [Pa, compression positive], porosity, water velocity, the drained flag
+        (1 where the particle held no pore pressure at its last update: dry, separated, at the free surface
+        or a drained boundary), and the effective stress with its invariants; the particle "stress" becomes
+        the total stress sigma' - p I."""
+        s = st.p_stress
+        mean = -(s[:, 0] + s[:, 1] + s[:, 2]) / 3.0
+        dev = s[:, :3] + mean[:, None]
+        total = s.copy()
+        total[:, :3] -= st.p_pore[:, None]
+        vw = np.zeros((st.n, 3))
+        vw[:, :st.dim] = st.p_vw
+        return {"stress": total, "mean_stress_p": mean + st.p_pore, "effective_stress": s.copy(),
+                "effective_mean_stress_p": mean,
+                "effective_von_mises_q": np.sqrt(1.5 * (dev ** 2).sum(axis=1) + 3.0 * (s[:, 3:] ** 2).sum(axis=1)),
+                "pore_pressure": st.p_pore.copy(), "excess_pore_pressure": self.water.excess(st),
+                "porosity": st.p_n.copy(), "water_velocity": vw, "drained": st.p_drained.copy()}
+
+    def basal_water(self, st):
+        """(pore pressure [Pa], mass of solids and water [kg], |g| [m/s2]) of each particle: the hazard maps'
+        basal pore-pressure ratio (writers/hazard_maps.py)."""
+        rho_w = self.water.table[st.p_material, WATER.rho_w]
+        return st.p_pore, st.p_mass + st.p_sat * st.p_n * rho_w * st.p_vol, self.water.g
+
+    def report(self, scene) -> list[str]:
+        from geompm.schemes.saturated.report import pore_water_lines
+
+        return pore_water_lines(scene, self.water)
