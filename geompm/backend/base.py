@@ -59,7 +59,7 @@ class Backend:
 
         st = self.host_state()
         rate = self.max_rate if self.max_rate is not None else (max_rate(st.p_L) if st.n else 0.0)
-        return wave_speed(self.scene, st), (max_speed(st.p_v) if st.n else 0.0), rate
+        return wave_speed(self.scene, st, comm=self.domain.comm), (max_speed(st.p_v) if st.n else 0.0), rate
 
     def host_state(self):
         """The particle arrays as host (numpy) arrays: read by health checks, writers and checkpoints."""

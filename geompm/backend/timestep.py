@@ -33,13 +33,14 @@ from geompm.kernels.reduce import max_rate, max_speed
 STRAIN_INCREMENT = 0.25
 
 
-def wave_speed(scene, state, finite_only: bool = False, materials=None) -> float:
+def wave_speed(scene, state, finite_only: bool = False, materials=None, comm=None) -> float:
     """Largest material wave speed c_p over the particles [m/s], each block through its law's loop
     (backend/cpu_loops.py); ``finite_only`` skips blocks with a non-finite density (a blown-up run's
     diagnosis); ``materials`` replaces the scene's laws block by block (the time-step report's other
-    integrations, estimate.py)."""
+    integrations, estimate.py); ``comm``: the ranks whose particles a scheme that combines several extremes
+    reduces them over first (Backend.dt_parts)."""
     if materials is None:
-        return scene.scheme.wave_speed(scene, state, finite_only)
+        return scene.scheme.wave_speed(scene, state, finite_only, comm)
     return law_speeds(scene, state, finite_only, materials)
 
 

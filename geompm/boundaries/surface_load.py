@@ -40,6 +40,7 @@ import numpy as np
 from numba import njit
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
+from geompm.parallel.comm import SERIAL
 from geompm.contract.layout import param_layout
 from geompm.contract.plugin import Params, nonzero_vector
 from geompm.contract.stages import LOAD, GridStage
@@ -164,8 +165,8 @@ class SurfaceLoad(GridStage):
     supplies_energy = True
     #: the load is added to the nodal force that local damping reads, so the force is kept apart
     needs_split_force = True
-    #: the loaded particles' mass and the load's lattice are found on the host from this rank's particles
-    splits_over_ranks = False
+    #: one process's communicator until the run hands the stage its own (contract/stages.py)
+    comm = SERIAL
     node_rule = surface_load_rule
     node_reduction = 4
 
@@ -217,7 +218,7 @@ class SurfaceLoad(GridStage):
             return idx
         idx = np.nonzero(np.isin(st.p_id, self.loaded_ids))[0]
         self._idx, self.count = idx, len(idx)
-        self.loaded_mass = float(st.p_mass[idx].sum())
+        self.local_mass = float(st.p_mass[idx].sum())
         return idx
 
     def ramp(self, time: float) -> float:
@@ -227,17 +228,22 @@ class SurfaceLoad(GridStage):
     def grid_args(self, dt, time, remap):
         if remap:
             return None  # the MUSL re-mapped velocities already carry this step's load
-        st, g = self.state, self.grid
+        st, g, comm = self.state, self.grid, self.comm
         d = self.dim
         idx = self.loaded()
         x = st.p_x[idx]
         r = support(g.kind)
-        first = np.floor((x.min(axis=0) - g.origin) / g.h).astype(np.int64) - r
-        last = np.floor((x.max(axis=0) - g.origin) / g.h).astype(np.int64) + r
+        # the loaded particles' box and mass over every rank, then each rank's share of the lattice summed
+        lo = comm.min(x.min(axis=0) if len(idx) else np.full(d, np.inf))
+        hi = comm.max(x.max(axis=0) if len(idx) else np.full(d, -np.inf))
+        self.loaded_mass = float(comm.sum([self.local_mass])[0])
+        first = np.floor((lo - g.origin) / g.h).astype(np.int64) - r
+        last = np.floor((hi - g.origin) / g.h).astype(np.int64) + r
         n = last - first + 1
         forces = np.zeros(3 * int(np.prod(n)))
         accel = self.ramp(time + dt) * self.force / self.loaded_mass
         scatter_load(st.p_x, idx, st.p_mass, accel, g.origin, 1.0 / g.h, g.kind, first, n, forces)
+        forces = comm.sum(forces)
         prm = self.prm.copy()
         prm[LO0:LO0 + d] = first
         prm[N0:N0 + d] = n

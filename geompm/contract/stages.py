@@ -52,9 +52,13 @@ class Stage(Plugin):
     provides_ground: ClassVar[bool] = False
     #: its rules and reductions give the same answers when the particles are shared between MPI ranks
     #: (parallel/slabs.py): every reduction it makes goes through its pass's accumulator rows, which the
-    #: ranks stack; a stage that sums particles itself on the host (a surface load's loaded mass) says False
-    #: and a run on several ranks refuses it
+    #: ranks stack, or through ``comm``; a stage that sums particles itself on the host without ``comm``
+    #: says False and a run on several ranks refuses it
     splits_over_ranks: ClassVar[bool] = True
+    #: the run's processes (parallel/comm.py), handed to every stage when the run is made (schemes/base.py's
+    #: StepContext): a stage that sums particles outside its pass (a surface load's loaded mass) sums them
+    #: over the ranks through it; None before
+    comm = None
 
     def __init__(self, params, label: str, json_path: str = ""):
         self.params = params

@@ -123,9 +123,10 @@ class Scheme:
     def step(self, run: "StepContext", dt: float) -> None:
         raise NotImplementedError
 
-    def wave_speed(self, scene, state, finite_only: bool = False) -> float:
+    def wave_speed(self, scene, state, finite_only: bool = False, comm=None) -> float:
         """Largest wave speed [m/s] that bounds the step: each material block's law speed (``finite_only``:
-        the blocks whose densities are finite, for a blown-up run's diagnosis)."""
+        the blocks whose densities are finite, for a blown-up run's diagnosis).  A law's speed is monotone in
+        the density, so this rank's largest is exact and the ranks' maxima need no ``comm`` here."""
         from geompm.backend.timestep import law_speeds
 
         return law_speeds(scene, state, finite_only)
@@ -157,6 +158,8 @@ class StepContext:
         #: how the run is shared between processes (parallel/whole.py: one; parallel/slabs.py: MPI ranks)
         self.domain = domain
         stages = sorted(scene.stages, key=lambda s: s.phase)
+        for stage in stages:
+            stage.comm = domain.comm
         self.grid_stages = [s for s in stages if isinstance(s, GridStage)]
         self.particle_stages = [s for s in stages if isinstance(s, ParticleStage)]
         self.time = 0.0

@@ -14,6 +14,8 @@ import numpy as np
 
 #: the fields compared particle by particle
 FIELDS = ("p_x", "p_v", "p_stress", "p_vol", "p_C")
+#: a scheme's fields compared where the runs have them (schemes/saturated/fields.py)
+SCHEME_FIELDS = ("p_vw", "p_pore", "p_pore_carried", "p_n", "p_drained")
 
 
 def mpiexec() -> Path:
@@ -68,7 +70,7 @@ def differences(one: Path, many: Path) -> dict[str, float]:
     b, meta_b = final_state(many)
     assert meta_a["step"] == meta_b["step"], (meta_a["step"], meta_b["step"])
     assert np.array_equal(a["p_id"], b["p_id"]), "the runs hold different particles"
-    out = {k: relative(a[k], b[k]) for k in FIELDS}
+    out = {k: relative(a[k], b[k]) for k in FIELDS + tuple(f for f in SCHEME_FIELDS if f in a)}
     out["p_u"] = relative(a["p_x"] - a["p_x0"], b["p_x"] - b["p_x0"])  # displacements: map coordinates hide them
     head_a, rows_a = series(one)
     head_b, rows_b = series(many)

@@ -28,13 +28,15 @@ def rows(st, key="p_x0"):
     return levels, [np.flatnonzero(y == v) for v in levels]
 
 
-def hydrostatic_column(h: float, end: float = 0.2) -> dict:
+#: the hydrostatic column's porosity, grain density [kg/m3] and gravity [m/s2]
+HYDROSTATIC = (0.4, 2650.0, 9.81)
+
+
+def hydrostatic_case(h: float, end: float = 0.2) -> dict:
     """A 1 m saturated elastic column (n = 0.4, rho_s = 2650, k = 1e-2 m/s) on an impermeable base between
-    slip walls, geostatic and hydrostatic at t = 0, run to ``end``. Returns the largest relative errors of
-    p = rho_w g depth and sigma'_v = (1 - n)(rho_s - rho_w) g depth over the rows more than two cells from
-    the base and the surface (the quadratic B-splines' boundary rows are reported apart: docs)."""
-    n, rho_s, g = 0.4, 2650.0, 9.81
-    case = {"name": "hydrostatic", "dimension": 2,
+    slip walls, geostatic and hydrostatic at t = 0, local damping 0.3, to ``end``."""
+    n, rho_s, g = HYDROSTATIC
+    return {"name": "hydrostatic", "dimension": 2,
             "grid": {"origin": [0, 0], "extent": [0.2, 1.2], "cell_size": h, "shape_function": "linear"},
             "time": {"end": end}, "gravity": [0, -g],
             "materials": {"soil": {"model": "linear_elastic", "density": rho_s, "youngs_modulus": 10e6,
@@ -45,7 +47,14 @@ def hydrostatic_column(h: float, end: float = 0.2) -> dict:
                         "particles_per_cell": 2, "initial_stress": "geostatic"}],
             "damping": [{"model": "local", "alpha": 0.3}],
             "boundaries": [{"type": "wall", "side": s, "condition": "slip"} for s in ("y-", "x-", "x+")]}
-    sim = Simulation(scene_from_dict(case))
+
+
+def hydrostatic_column(h: float, end: float = 0.2) -> dict:
+    """The hydrostatic column (hydrostatic_case) run to ``end``. Returns the largest relative errors of
+    p = rho_w g depth and sigma'_v = (1 - n)(rho_s - rho_w) g depth over the rows more than two cells from
+    the base and the surface (the quadratic B-splines' boundary rows are reported apart: docs)."""
+    n, rho_s, g = HYDROSTATIC
+    sim = Simulation(scene_from_dict(hydrostatic_case(h, end)))
     st = sim.state
     run_to(sim, end)
     levels, idx = rows(st)

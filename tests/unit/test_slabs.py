@@ -150,24 +150,23 @@ class _OneProcessScheme(Usl):
     splits_over_ranks = False
 
 
-@pytest.mark.parametrize("name,scheme,where,words", [
-    ("debris_obstacle", _OneProcessScheme, "solver.update", "scheme 'one_process_usl' runs in one process only"),
-    ("loaded_column", None, "boundaries", "sums particles outside its pass, so it cannot run on 2 MPI ranks"),
-])
-def test_what_cannot_be_shared_between_ranks_is_refused_before_any_work(name, scheme, where, words):
-    """A scheme that declares ``splits_over_ranks = False`` and a surface load (it sums its loaded particles'
-    mass on the host) are refused on 2 ranks with a CaseError naming the case's place; one process runs them.
-    The saturated scheme splits (tests/mpi/test_same_answers.py) and is not refused."""
+def test_what_cannot_be_shared_between_ranks_is_refused_before_any_work():
+    """A scheme that declares ``splits_over_ranks = False`` and a stage that declares the same are refused on
+    2 ranks with a CaseError naming each one's place in the case; the saturated scheme and a surface load
+    (its loaded mass and force lattice summed through the stage's comm) are not refused."""
     from geompm.parallel.slabs import Slabs
     from geompm.schema.load import load_case
     from geompm.setup.assemble import assemble
     from tests.support.cases import CASES
 
-    scene = assemble(load_case(CASES / f"{name}.json", ["grid.cell_size=0.1"] if name == "loaded_column" else []))
-    if scheme is not None:
-        scene.scheme = scheme()
+    scene = assemble(load_case(CASES / "debris_obstacle.json"))
+    scene.scheme = _OneProcessScheme()
+    stage = scene.stages[0]
+    stage.__class__ = type("OneProcessStage", (type(stage),), {"splits_over_ranks": False})
     with pytest.raises(CaseError) as exc:
         Slabs(_TwoRanks(), scene)
-    assert any(p[0].startswith(where) and words in p[1] for p in exc.value.problems), exc.value.problems
-    saturated = assemble(load_case(CASES / "saturated_debris_obstacle.json"))
-    assert Slabs(_TwoRanks(), saturated).size == 2
+    found = exc.value.problems
+    assert any(p == "solver.update" and "scheme 'one_process_usl' runs in one process only" in m for p, m in found)
+    assert any(p == stage.json_path and "cannot run on 2 MPI ranks" in m for p, m in found), found
+    for name, sets in (("saturated_debris_obstacle", []), ("loaded_column", ["grid.cell_size=0.1"])):
+        assert Slabs(_TwoRanks(), assemble(load_case(CASES / f"{name}.json", sets))).size == 2

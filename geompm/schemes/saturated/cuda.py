@@ -19,6 +19,7 @@ from numba import cuda, float64, int64
 from geompm.backend import cuda_kernels as K
 from geompm.backend.cuda_loops import simulated, simulator_call
 from geompm.schemes.saturated import kernels as tp
+from geompm.schemes.saturated import speeds
 from geompm.kernels.stencil import AFFINE
 
 #: the particle arrays of saturated soil that live on the device beside backend/cuda.DEVICE_ARRAYS
@@ -337,25 +338,20 @@ class SaturatedCuda:
             porosity[K.blocks(n), K.THREADS](dev["p_n"], dev["p_vol"], dev["p_vol0"], dev["p_material"], self.table)
 
     def wave_speed(self, law_speeds) -> float:
-        """The largest of the undrained, water and skeleton wave speeds (schemes/saturated/speeds.py)
-        from one reduction per material block; ``law_speeds[k]``: the law's speed over block k's densities."""
+        """The largest of the undrained, water and skeleton wave speeds (schemes/saturated/speeds.py) from one
+        reduction per material block, the blocks' extremes reduced over the ranks before they are combined;
+        ``law_speeds[k]``: the law's speed over block k's densities."""
         be, st, pw = self.be, self.be.state, self.pw
         dev = be._device()
-        best = 0.0
+        rows = np.tile(np.array(speeds.EMPTY_ROW), (len(st.blocks), 1))
         for k, (s, e) in enumerate(st.blocks):
             if e <= s:
-                continue
-            c = law_speeds[k]
-            best = max(best, c)
-            if not pw.wet[k]:
                 continue
             out = cuda.to_device(np.array([1.0, 0.0, math.inf, 0.0]))
             speed_terms[K.blocks(e - s), K.THREADS](dev["p_v"], dev["p_vw"], dev["p_n"], dev["p_rho"], dev["p_sat"],
                                                     self.table[k], s, e, out)
-            n_min, rho_d, rho_sat, _ = out.copy_to_host()
-            if n_min >= 1.0:
-                continue
-            row = pw.table[k]
-            best = max(best, math.sqrt((c * c * rho_d + row[tp.WATER.k_w] / n_min) / rho_sat),
-                       math.sqrt(row[tp.WATER.k_w] / row[tp.WATER.rho_w]))
-        return best
+            n_min, rho_d, rho_sat, v2 = out.copy_to_host()
+            rows[k] = (law_speeds[k], -n_min, rho_d, -rho_sat, math.sqrt(v2))
+        rows = np.asarray(be.domain.comm.max(rows.ravel())).reshape(rows.shape)
+        c = speeds.combined_speeds(rows, pw)
+        return max(c["undrained"], c["water"], c["skeleton"])

@@ -101,10 +101,10 @@ class Saturated(Scheme):
         wet.porosity()
         run.advance(view, dt)
 
-    def wave_speed(self, scene, state, finite_only: bool = False) -> float:
+    def wave_speed(self, scene, state, finite_only: bool = False, comm=None) -> float:
         from geompm.schemes.saturated.speeds import saturated_speeds
 
-        speeds = saturated_speeds(scene, state, self.water)
+        speeds = saturated_speeds(scene, state, self.water, comm)
         return max(speeds["undrained"], speeds["water"], speeds["skeleton"])
 
     def series(self, run) -> dict[str, float]:

@@ -23,26 +23,48 @@ from geompm.backend.cpu_loops import law_wave_speed
 from geompm.schemes.saturated import kernels as tp
 
 
-def saturated_speeds(scene, state, pw) -> dict[str, float]:
-    """{'undrained', 'water', 'skeleton', 'flow'} [m/s]: the three wave speeds of the module docstring,
-    largest over the particles, and the largest speed of either phase."""
-    out = {"undrained": 0.0, "water": 0.0, "skeleton": 0.0, "flow": 0.0}
-    if state.n == 0:
-        return out
+#: a material's row of the extremes the speeds are bounded by: its law's speed [m/s], minus the smallest
+#: porosity of its wet particles, the largest dry density, minus the smallest saturated density [kg/m3] and the
+#: largest speed of either phase [m/s]; each is a maximum, so the rows of several ranks reduce by a maximum
+#: before they are combined, and the step is the one a single process takes
+EMPTY_ROW = (0.0, -1.0, 0.0, -math.inf, 0.0)
+
+
+def block_extremes(scene, state, pw) -> np.ndarray:
+    """(materials, 5): each material block's row of EMPTY_ROW's quantities over this process's particles."""
+    rows = np.tile(np.array(EMPTY_ROW), (len(scene.materials), 1))
     for k, (mat, (s, e)) in enumerate(zip(scene.materials, state.blocks)):
         if e <= s:
             continue
-        row = pw.table[k]
         n_min, rho_d, rho_sat, flow = tp.speed_bounds(state.p_v, state.p_vw, state.p_n, state.p_rho, state.p_sat,
-                                                      row, s, e)
-        c = law_wave_speed(mat, state.p_rho[s:e])
-        out["skeleton"] = max(out["skeleton"], c)
-        out["flow"] = max(out["flow"], flow)
+                                                      pw.table[k], s, e)
+        rows[k] = (law_wave_speed(mat, state.p_rho[s:e]), -n_min, rho_d, -rho_sat, flow)
+    return rows
+
+
+def combined_speeds(rows: np.ndarray, pw) -> dict[str, float]:
+    """{'undrained', 'water', 'skeleton', 'flow'} [m/s] from the blocks' extremes (block_extremes, reduced
+    over the ranks)."""
+    out = {"undrained": 0.0, "water": 0.0, "skeleton": 0.0, "flow": 0.0}
+    for k, (c, neg_n, rho_d, neg_sat, flow) in enumerate(rows):
+        out["skeleton"] = max(out["skeleton"], float(c))
+        out["flow"] = max(out["flow"], float(flow))
+        n_min, rho_sat = -float(neg_n), -float(neg_sat)
         if not pw.wet[k] or n_min >= 1.0:
             continue
+        row = pw.table[k]
         out["undrained"] = max(out["undrained"], math.sqrt((c * c * rho_d + row[tp.WATER.k_w] / n_min) / rho_sat))
         out["water"] = max(out["water"], math.sqrt(row[tp.WATER.k_w] / row[tp.WATER.rho_w]))
     return out
+
+
+def saturated_speeds(scene, state, pw, comm=None) -> dict[str, float]:
+    """{'undrained', 'water', 'skeleton', 'flow'} [m/s]: the three wave speeds of the module docstring,
+    largest over the particles (of every rank of ``comm``), and the largest speed of either phase."""
+    rows = block_extremes(scene, state, pw)
+    if comm is not None:
+        rows = np.asarray(comm.max(rows.ravel())).reshape(rows.shape)
+    return combined_speeds(rows, pw)
 
 
 def drag_limit(state, pw) -> float:
