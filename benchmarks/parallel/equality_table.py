@@ -31,7 +31,7 @@ def main(out: Path, only=()) -> None:
             done = mpi.run(case, out / name / f"r{ranks}", ranks)
             assert done.returncode == 0, done.stderr
             diff = mpi.differences(one, out / name / f"r{ranks}" / "run")
-            fields = {k: diff[k] for k in (*mpi.FIELDS, "p_u")}
+            fields = {k: diff[k] for k in (*mpi.FIELDS, *mpi.SCHEME_FIELDS, "p_u") if k in diff}
             worst_series = max((k for k in diff if k.startswith("series.")), key=diff.get)
             status = json.loads((out / name / f"r{ranks}" / "run" / "status.json").read_text())
             rows.append({"scene": name, "ranks": ranks, "steps": meta["step"], "particles": status["particles"],
@@ -43,4 +43,11 @@ def main(out: Path, only=()) -> None:
 
 
 if __name__ == "__main__":
-    main(Path(sys.argv[1]), sys.argv[2:])
+    import argparse
+
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("out", type=Path, help="folder for the runs and equality.json (made if missing)")
+    parser.add_argument("scenes", nargs="*", choices=[[]] + list(SCENES), metavar="SCENE",
+                        help=f"scenes to run (default all): {', '.join(SCENES)}")
+    args = parser.parse_args()
+    main(args.out, args.scenes)

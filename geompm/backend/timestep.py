@@ -9,7 +9,7 @@ The strain-increment limit keeps the volume update V <- V det(I + dt L)
 (kernels/volume.py) far from inverting a particle.  The CFL bound alone does
 not: in a 50 m/s impact on a wall at cfl = 0.8 the stress wave drives
 velocities of 75 m/s against arriving material, dt |L| passes 1 and densities
-turn negative (docs/stability.md, Strain increment).  The stretching rates
+turn negative (docs/numerical-envelope.md, Strain increment).  The stretching rates
 L_ii are what change a particle's volume (a shear L_01 alone leaves
 det(I + dt L) = 1).  In ordinary flows the limit never binds: the largest
 dt |L_ij| measured was 0.005 (column collapse) and 0.008 (dam break), fifty

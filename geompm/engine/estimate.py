@@ -78,7 +78,7 @@ class StepReport:
         remedies += ["a smaller low-shear viscosity (cross: give viscosity_zero, viscosity_infinity and "
                      "time_constant instead of from_bingham, e.g. mu_0 = 100 mu_inf: the step grows in proportion, "
                      "and the fluid creeps that much faster below its yield stress, so check the deposit)",
-                     "a coarser grid (the step grows with h^2)", "accept the run time (docs/stability.md)"]
+                     "a coarser grid (the step grows with h^2)", "accept the run time (docs/numerical-envelope.md)"]
         return text + ". Remedies: " + "; ".join(f"({i}) {r}" for i, r in enumerate(remedies, 1))
 
 

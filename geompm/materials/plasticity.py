@@ -119,7 +119,7 @@ def elastic_wave_speed(prm, rho):
     Its moduli scale with rho / rho0 (current_moduli), so (lambda + 2G) rho / rho0 / rho does not depend
     on rho.  With constant moduli the speed would be sqrt((lambda + 2G) / rho): a particle dilated to
     rho0 / 25 (a stress-free particle on the floor of a column collapse at h = H0/80) would set a step five
-    times shorter than the material's (docs/stability.md)."""
+    times shorter than the material's (docs/numerical-envelope.md)."""
     return math.sqrt((prm[ELASTIC.lam] + 2.0 * prm[ELASTIC.G]) / prm[ELASTIC.density])
 
 
@@ -166,5 +166,5 @@ class FrictionalMaterial(Material):
                     "soil dilates without bound, its density falls (to 4 % of rho0 in the column collapse at "
                     "psi = 10 deg, h = 5 mm) and the stable time step with it, as sqrt(rho / rho0). Set "
                     "dilation_cutoff to the plastic volumetric strain of the loosest state, "
-                    "ln((1 + e_max) / (1 + e_0)), e.g. 0.05 (docs/stability.md, Dilatancy)"]
+                    "ln((1 + e_max) / (1 + e_0)), e.g. 0.05 (docs/numerical-envelope.md, Dilatancy)"]
         return []

@@ -30,7 +30,7 @@ class GridSpec(Strict):
     )
 
 
-CFL_LIMIT = 0.8  # an elastic block gains energy from cfl = 0.9 on (docs/stability.md)
+CFL_LIMIT = 0.8  # an elastic block gains energy from cfl = 0.9 on (docs/numerical-envelope.md)
 
 
 class TimeSpec(Strict):
@@ -49,7 +49,7 @@ class TimeSpec(Strict):
     def _cfl_limit(cls, v):
         if v > CFL_LIMIT:
             raise ValueError(f"{v:g} is above the stable limit {CFL_LIMIT}: an elastic body gains energy from 0.9 "
-                             f"on (docs/stability.md); use 0.4 (the default) or at most {CFL_LIMIT}")
+                             f"on (docs/numerical-envelope.md); use 0.4 (the default) or at most {CFL_LIMIT}")
         return v
 
 

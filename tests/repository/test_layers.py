@@ -66,16 +66,14 @@ def test_every_package_says_what_it_owns():
     assert not missing
 
 
-def test_old_public_import_paths_still_work():
-    """Plugins written before the packages were drawn import geompm.stages, geompm.plugin, geompm.layout and
-    geompm.registry: those still give the same objects, with a DeprecationWarning naming the new path."""
-    from geompm.contract import layout, plugin, registry, stages
+def test_no_import_path_is_kept_for_old_callers():
+    """The package is 0.1.0 and keeps no forwarding module: geompm.stages, geompm.plugin, geompm.layout and
+    geompm.registry are gone (their homes are in geompm.contract), and importing one fails."""
+    import importlib
 
-    for old, new, name in (("geompm.stages", stages, "GridStage"), ("geompm.plugin", plugin, "Params"),
-                           ("geompm.layout", layout, "param_layout"), ("geompm.registry", registry, "available")):
-        mod = __import__(old, fromlist=[name])
-        with pytest.warns(DeprecationWarning, match=new.__name__):
-            assert getattr(mod, name) is getattr(new, name)
+    for old in ("geompm.stages", "geompm.plugin", "geompm.layout", "geompm.registry", "geompm._moved"):
+        with pytest.raises(ModuleNotFoundError):
+            importlib.import_module(old)
 
 
 def test_assembling_a_scene_compiles_no_law(monkeypatch):

@@ -17,7 +17,7 @@ from pathlib import Path
 
 #: geompm's layers, lowest first (docs/architecture.md draws them)
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("version", "errors", "_moved"),
+    ("version", "errors"),
     ("contract",),
     ("kernels",),
     ("mpm",),
@@ -33,8 +33,8 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("engine",),
     ("api", "testing", "study", "stability", "bench", "plots"),
     ("cli",),
-    # old import paths kept for plugins (each forwards to its new module) and the package's own __init__
-    ("plugin", "stages", "layout", "registry", "__init__"),
+    # the package's own __init__
+    ("__init__",),
 )
 LAYER_OF = {pkg: k for k, names in enumerate(LAYERS) for pkg in names}
 

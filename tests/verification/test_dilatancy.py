@@ -1,7 +1,7 @@
 """Dilatant soil (issue 16): the stable step of a dilated particle, the dilation rate of a biaxial
 test, and the column collapse with psi = 10 deg that used to blow up.
 
-Cause (docs/stability.md, "Dilatancy"): under continued shear a dilatant soil keeps dilating, and
+Cause (docs/numerical-envelope.md, "Dilatancy"): under continued shear a dilatant soil keeps dilating, and
 particles at the free surface open at the apex; their density falls to a few per cent of rho0
 while the elastic moduli stay, so their P-wave speed sqrt(M / rho) grows past the one the step
 was computed with, sqrt(M / rho0). Issue 16 made the wave speed follow each particle's current
@@ -24,8 +24,8 @@ from geompm.materials.drucker_prager import DruckerPrager
 from geompm.materials.linear_elastic import LinearElastic
 from geompm.materials.mohr_coulomb import MohrCoulomb
 from geompm.materials.plasticity import ELASTIC
-from tests.stability.biaxial import dilation_rate
-from tests.stability.harness import ROOT
+from tests.envelope.biaxial import dilation_rate
+from tests.envelope.harness import ROOT
 
 
 @pytest.mark.parametrize("law", [LinearElastic, DruckerPrager, MohrCoulomb])
@@ -73,7 +73,7 @@ def test_gravity_supply_is_not_cancelled_by_a_runaway_particle():
     ("drucker_prager", 30.0, (0.02,)),
 ])
 def test_biaxial_dilation_rate(model, psi, cells):
-    """Plane-strain biaxial compression (tests/stability/biaxial.py): in the yielding soil
+    """Plane-strain biaxial compression (tests/envelope/biaxial.py): in the yielding soil
     tr(D) / gamma_max = sin(psi) (Vermeer & de Borst 1984), within 2 %, for DP with the plane-strain
     cone and for MC, psi = 10 deg and psi = phi = 30 deg (associated); at two cell sizes the
     error falls with h. Measured: DP psi = 10: 0.17679, 0.17480, 0.17505 at h = 0.02, 0.01,

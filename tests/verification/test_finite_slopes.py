@@ -12,7 +12,7 @@ A third soil, c' = 5 kPa and phi' = 30 deg (Bishop 1.606), is tested at h = 0.25
 At h = 0.5 m the trial of `geompm stability` must stand at 0.95 F and fail at 1.05 F (the issue's 5 %); the
 searches at h = 1, 0.5 and 0.25 m (+11.2 / +4.2 / +0.6 %, +7.4 / +2.8 / +0.05 % and +8.7 / +4.7 / +0.6 %,
 converging) are in docs/slope-stability.md (benchmarks/results/2026-12-04-slope-stability/griffiths-lane.txt,
-benchmarks/stability/finite_slope.py)."""
+benchmarks/slope_stability/finite_slope.py)."""
 
 from __future__ import annotations
 

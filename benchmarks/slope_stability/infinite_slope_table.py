@@ -1,7 +1,7 @@
 """The infinite-slope tables of docs/slope-stability.md: `geompm stability` at three cell sizes against the
 closed forms, and the factor's sensitivity to the trials' local damping and to the failure criterion.
 
-    python benchmarks/stability/infinite_slope_table.py OUT_FOLDER [main|sensitivity] > table.txt
+    python benchmarks/slope_stability/infinite_slope_table.py OUT_FOLDER [main|sensitivity] > table.txt
 
 Cases (tests/support/slopes.py): beta = 20 deg, phi = 30 deg, 1 m deep, gamma = 2000 x 9.81 N/m3.
   associated (psi = phi), c = 0:        F = tan(phi) / tan(beta) = 1.5863

@@ -11,14 +11,14 @@ strain): in steady plastic flow the elastic strain rates vanish, so each yieldin
 with
     tr(D) / gamma_max = sin(psi),   gamma_max = sqrt((D_xx - D_yy)^2 + (2 D_xy)^2),
 for Mohr-Coulomb and for Drucker-Prager matched to it in plane strain
-(alpha = tan(phi) / sqrt(9 + 12 tan^2 phi), beta the same with psi; docs/stability.md derives it).
+(alpha = tan(phi) / sqrt(9 + 12 tan^2 phi), beta the same with psi; docs/numerical-envelope.md derives it).
 Perfect plasticity localises (Vermeer 1990, Geotechnique 40(2):223): the upper part of the sample
 shears while the lower part stays elastic, so the dilation rate is measured where the soil yields,
 not from the sample's outline: the volume-weighted sums of tr(D) dt and gamma_max dt over the
 particles whose plastic strain grew in the step and whose stress is off the apex, from an axial
 strain of 1.5 % (past the peak) to 3.75 %.
 
-    python tests/stability/biaxial.py [drucker_prager|mohr_coulomb] PSI H [H ...]
+    python tests/envelope/biaxial.py [drucker_prager|mohr_coulomb] PSI H [H ...]
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Dilatant soil in the column collapse: does it run, with which steps, and how much energy.
 
-    python benchmarks/stability/dilatancy_sweep.py OUT.csv --psi 0 5 10 20 31 --h 0.02 0.01 0.005 0.0025
+    python benchmarks/envelope/dilatancy_sweep.py OUT.csv --psi 0 5 10 20 31 --h 0.02 0.01 0.005 0.0025
         [--model mohr_coulomb] [--reference-density] [--cutoff EPS_V] [--cfl 0.4] [--end 0.8]
 
 Runs cases/column_collapse.json with materials.soil.dilation_angle = psi and

@@ -1,7 +1,7 @@
-"""Print the stability envelope of docs/stability.md as a markdown table: every row of
-tests/stability/test_envelope.py's SOIL list, run with its harness.
+"""Print the numerical envelope of docs/numerical-envelope.md as a markdown table: every row of
+tests/envelope/test_envelope.py's SOIL list, run with its harness.
 
-    python benchmarks/stability/envelope_table.py > table.md
+    python benchmarks/envelope/envelope_table.py > table.md
 
 Columns: steps, first and smallest dt [s], the largest E_k over what the run can supply, the furthest
 particle [m], the densest particle / rho0 [-], and the harness's verdict (stable: finite, inside the
@@ -16,8 +16,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
-from tests.stability.harness import column, run  # noqa: E402
-from tests.stability.test_envelope import SOIL  # noqa: E402
+from tests.envelope.harness import column, run  # noqa: E402
+from tests.envelope.test_envelope import SOIL  # noqa: E402
 
 
 def main() -> None:

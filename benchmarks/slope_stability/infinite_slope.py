@@ -1,6 +1,6 @@
 """The infinite-slope case of docs/slope-stability.md (tests/support/slopes.py), written to a file.
 
-    python benchmarks/stability/infinite_slope.py OUT.json --cell-size 0.05 [--cohesion 2000] [--dilation 30]
+    python benchmarks/slope_stability/infinite_slope.py OUT.json --cell-size 0.05 [--cohesion 2000] [--dilation 30]
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The stability envelope: small scenes at the extremes of each parameter (docs/stability.md).
+"""The numerical envelope: small scenes at the extremes of each parameter (docs/numerical-envelope.md).
 
 Each case asserts a stable run by harness.py's definition (no NaN or Inf,
 kinetic energy never above E_k(0) + U_0 + W_g within 5%, every particle

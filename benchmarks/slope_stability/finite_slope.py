@@ -1,7 +1,7 @@
 """A slope of Griffiths & Lane's first example's geometry against Bishop's simplified method, at three cell sizes
 (docs/slope-stability.md, "Verification: finite slopes").
 
-    python benchmarks/stability/finite_slope.py --cohesion 5000 --friction 30 [--cell-sizes 1 0.5 0.25] [--work DIR]
+    python benchmarks/slope_stability/finite_slope.py --cohesion 5000 --friction 30 [--cell-sizes 1 0.5 0.25] [--work DIR]
 
 Prints Bishop's factor and critical circle (tests/support/bishop.py, the search of
 tests/verification/test_finite_slopes.py), then runs `geompm stability` with its defaults on

@@ -1,7 +1,7 @@
 """The softening biaxial test of docs/slope-stability.md: the platen force against its displacement at
 several cell sizes, with the softening regularised by the cell size and without.
 
-    python benchmarks/stability/biaxial.py OUT_FOLDER [h ...] > biaxial.txt
+    python benchmarks/slope_stability/biaxial.py OUT_FOLDER [h ...] > biaxial.txt
 
 Case: tests/support/slopes.biaxial_case (a 1 m x 2 m sample, c softening from 100 to 50 kPa, phi = 0, a weak
 corner, a smooth platen at 0.02 m/s).  Printed: the peak force [N/m] and the force at platen displacements

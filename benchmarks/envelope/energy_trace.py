@@ -1,13 +1,13 @@
 """Energy trace of the dilatant column (issue 16): per-step plastic work, elastic energy and the fastest particle.
 
-    python benchmarks/stability/energy_trace.py PSI H [--reference-density] [--set KEY=VALUE ...]
+    python benchmarks/envelope/energy_trace.py PSI H [--reference-density] [--set KEY=VALUE ...]
 
 Runs cases/column_collapse.json with materials.soil.dilation_angle = PSI and grid.cell_size = H and
 prints every 200 steps (and every step once a particle exceeds 3 m/s): kinetic energy, the energy
 gravity released, the elastic energy sum V (p^2 / (2K) + s:s / (4G)), the summed numerical plastic
 work V (sigma_n : D dt - dW_e) and its negative part, and the fastest particle's position, density,
 pressure and state. ``--reference-density`` restores the wave speed of before issue 16,
-sqrt((lambda + 2G) / rho0). This is the probe behind the cause in docs/stability.md ("Dilatancy").
+sqrt((lambda + 2G) / rho0). This is the probe behind the cause in docs/numerical-envelope.md ("Dilatancy").
 """
 import sys
 from pathlib import Path

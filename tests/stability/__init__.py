@@ -1,2 +1,0 @@
-"""The stability envelope: small scenes at the extremes of each parameter (docs/stability.md), with the
-harness that runs them and the biaxial test of a dilatant sample."""
