@@ -47,7 +47,7 @@ DEVICE_ARRAYS = ("p_x", "p_x0", "p_v", "p_C", "p_mass", "p_vol", "p_rho", "p_str
 
 
 class _DeviceGrid:
-    """The grid window's device arrays, grown geometrically (engine/grid.GridBuffers on the host)."""
+    """The grid window's device arrays, grown geometrically (mpm/grid.GridBuffers on the host)."""
 
     nchunks = 1  # one grid: P2G adds with atomics
 

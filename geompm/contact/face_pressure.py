@@ -1,7 +1,7 @@
 """An obstacle's contact force as pressures on its faces (docs/obstacles.md).
 
 The rules share each contact node's and guard correction's force among the
-faces under its patch (sdf_field.face_lattice_ids, contact_force.record_on_face);
+faces under its patch (sdf_field.face_lattice_ids, contact/force.record_on_face);
 ``spread_matrix`` evens the faces' forces over about one cell, and
 ``face_pressure_step`` turns them, every step, into the normal pressure
 p = -F.n / A (pushing in positive), the shear traction |F - (F.n) n| / A and

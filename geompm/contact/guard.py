@@ -19,7 +19,7 @@ part):
 
 A particle that was put back gets the contact rule on its velocity relative
 to the obstacle and adds the momentum that removed to the obstacle's force,
-normal force and moment (contact_force.py, the same code as the grid
+normal force and moment (contact/force.py, the same code as the grid
 contact), so the force history holds every correction.  The segment start x - dt v is the exact start of the step for
 PIC, APIC and MLS under USL (the particle moves with its new velocity); for
 FLIP and MUSL it is an approximation of the path (the end-point test is exact

@@ -2,8 +2,8 @@
 
 A ``ContactForceStage`` is a grid stage (contact on nodes) and a particle
 stage (a penetration guard after G2P) whose rules accumulate, through
-contact_force.contact_and_record, the momentum they remove.  This class
-packs the shared parameters (contact_force.OBSTACLE), sums the threads'
+contact/force.contact_and_record, the momentum they remove.  This class
+packs the shared parameters (contact/force.OBSTACLE), sums the threads'
 rows into the force, its normal and tangential parts and the moment,
 keeps the peak, writes the series columns and the checkpoint state.
 
@@ -61,7 +61,7 @@ class ContactForceStage(GridStage, ParticleStage):
 
     def start_faces(self, surface, normals):
         """Spread the force onto the faces of ``surface``: each pass's rows get (faces, d) entries after the
-        totals, which the rules fill through contact_force.record_on_face.  ``normals`` (faces, 3): unit,
+        totals, which the rules fill through contact/force.record_on_face.  ``normals`` (faces, 3): unit,
         out of the solid (the pressure's sign)."""
         d, nf = self.dim, len(surface.cells)
         self.faces = surface

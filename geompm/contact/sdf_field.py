@@ -96,7 +96,7 @@ def face_lattice_ids(field: np.ndarray, lo, shape, h: float, surface, reach: flo
     The point is projected on the surface, x - phi grad phi / |grad phi|^2, and its patch of width
     ``patch`` [m] (the cell size: a node's share of the surface) is sampled at +-patch/4 along each tangent;
     each sample takes its nearest face (nearest_faces), and the force is shared equally
-    (contact_force.record_on_face).  A node on the edge between two faces thus gives half to each, where a
+    (contact/force.record_on_face).  A node on the edge between two faces thus gives half to each, where a
     single nearest face would give all to one (a hydrostatic plate's raw pressure alternated between 0
     and twice its value that way)."""
     d = len(lo)

@@ -44,7 +44,7 @@ from geompm.contact.force import COUNT, DEPTH, FACES_GRID, FACES_GUARD, OBSTACLE
 from geompm.files.dem import bilinear, read_dem
 from geompm.contact.recorded import ContactForceStage
 
-#: the obstacle slots (contact_force.OBSTACLE) and the DEM's lattice: first pixel centre [m], pixel size [m],
+#: the obstacle slots (contact/force.OBSTACLE) and the DEM's lattice: first pixel centre [m], pixel size [m],
 #: pixels per axis, the cosine of its steepest slope
 TERRAIN = param_layout(OBSTACLE, "dem_x0", "dem_y0", "dem_dx", "dem_dy", "dem_nx", "dem_ny", "cos_steepest",
                        "faces")  # faces: 1 when the force is spread on the DEM's triangles (surfaces writer)

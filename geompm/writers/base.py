@@ -6,7 +6,7 @@ checkpoints, ``state()`` returns what the writer needs to carry on (plain JSON
 values) and ``resume(run_dir, sim, state)`` replaces ``open`` on a resumed run:
 it must drop whatever was written after that state, so the resumed output has
 no duplicate and no missing entry.  Every file must be written so that a
-killed process leaves it readable (fileio.atomic_path, or one write() per row).
+killed process leaves it readable (files/atomic.atomic_path, or one write() per row).
 """
 
 from __future__ import annotations

@@ -10,7 +10,7 @@ mean_stress_p, von_mises_q, ids, volume, density, state variables), chunked
 and gzip-compressed, with ``time`` and ``step`` attributes.  Plain h5py
 follows the links: ``h5py.File("results.h5")["particles/000003/velocity"]``.
 
-Every file is written under a temporary name, fsynced and renamed (fileio),
+Every file is written under a temporary name, fsynced and renamed (files/atomic.py),
 so a killed run leaves only complete files: the index names only fields files
 that exist.  Rewriting the small index at each output keeps the cost per output
 independent of the run's length.

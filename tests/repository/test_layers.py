@@ -1,10 +1,5 @@
 """geompm's packages form layers: no circle between files or packages, no import from a lower layer into a
 higher one (tests/support/import_graph.py declares the order and reads the imports with ``ast``).
-
-Before the packages were drawn (2026-12-03): 114 modules, 17 loose in geompm/, 3 circles between files,
-3 between packages (backend <-> engine among them) and 15 upward imports, e.g. a law importing the backend
-(materials/base.py -> backend/cpu_loops.py) and the backend importing the engine (backend/base.py ->
-engine/timestep.py).
 """
 
 from pathlib import Path

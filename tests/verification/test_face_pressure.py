@@ -1,7 +1,7 @@
 """The contact force spread onto an obstacle's faces (issue 20, point 2; docs/obstacles.md).
 
 Each contact node's and guard correction's force is shared among the faces
-of its surface patch (sdf_field.face_lattice_ids, contact_force.record_on_face),
+of its surface patch (sdf_field.face_lattice_ids, contact/force.record_on_face),
 so the faces' forces add up to the obstacle's force by construction; the
 tests check that bookkeeping, and the pressures against closed forms.
 """
