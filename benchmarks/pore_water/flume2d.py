@@ -73,7 +73,7 @@ def main(argv):
         if sim.time >= due:
             st = sim.state
             line = f"t {sim.time:.2f} steps {sim.step_count} front {st.p_x[:, 0].max():.2f} m"
-            if st.p_pore is not None:
+            if hasattr(st, "p_pore"):  # a field of the saturated scheme (schemes/saturated/fields.py)
                 p = st.p_pore
                 line += f"  p max {p.max():8.0f} min {p.min():8.0f} Pa  p99 |p| {np.percentile(abs(p), 99):7.0f} Pa"
             print(line, flush=True)

@@ -127,6 +127,11 @@ class Backend:
         case check refuses a water table elsewhere (schema/triggers.py)."""
         raise NotImplementedError("a water table runs on the CPU backend only")
 
+    def each(self, fn, n: int, *args) -> None:
+        """Run a scheme's per-item function ``fn(i, *args)`` for i in 0..n-1, in parallel: the backend's
+        generated loop (backend/item_loops.py on the CPU, cuda_loops.each_kernel on a GPU)."""
+        raise NotImplementedError
+
     def material_parameters_changed(self) -> None:
         """The laws' packed parameters (``scene.materials[k].prm``) were changed in place (a strength
         trigger, engine/triggers.py): a backend that keeps its own copy takes them again."""

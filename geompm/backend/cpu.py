@@ -26,6 +26,7 @@ from geompm.backend.base import Backend
 from geompm.backend.cpu_loops import update_law_block
 from geompm.backend.cpu_loops import block_loops
 from geompm.backend.cpu_stage_loops import merge_loop, node_loop, particle_loop
+from geompm.backend.item_loops import each_loop
 from geompm.kernels.phreatic import total_stress
 from geompm.kernels.reduce import cell_bounds
 
@@ -133,6 +134,10 @@ class CpuBackend(Backend):
             if e > s:
                 rate = max(rate, update_law_block(mat, dt, st.p_L[s:e], st.p_rho[s:e], st.p_stress[s:e], sv))
         self.max_rate = rate
+
+    def each(self, fn, n: int, *args) -> None:
+        if n > 0:
+            each_loop(fn)(n, *args)
 
     def sort_particles(self) -> None:
         self.state.sort_by_cell(self.scene.grid.origin, self.scene.grid.h)

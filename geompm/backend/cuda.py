@@ -211,6 +211,10 @@ class CudaBackend(Backend):
             self.max_rate = max_rate(self.host_state().p_L) if st.n else 0.0
         return c, (float(r[0]) if st.n else 0.0), self.max_rate
 
+    def each(self, fn, n: int, *args) -> None:
+        if n > 0:
+            cuda_loops.each_kernel(fn)[K.blocks(n), K.THREADS](n, *args)
+
     def sort_particles(self) -> None:
         """The counting sort on the device (backend/cuda_sort.py); only the permutation comes to the host,
         for the arrays that live there (ids, bodies, reference volumes)."""

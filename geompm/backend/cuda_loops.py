@@ -102,6 +102,14 @@ def particle_kernel(prm, aux, dt, k, start, end, p_x, p_x0, p_v, p_C, p_mass, p_
 {scratch_and_acc}    particle_rule(prm, aux, dt, k, p_x[p], p_x0[p], p_v[p], p_C[p], p_mass[p], p_stress[p], work[:{used}], acc)
 {flush}'''
 
+EACH = '''
+@cuda.jit
+def each_kernel(n, {args}):
+    i = cuda.grid(1)
+    if i < n:
+        item(i, {args})
+'''
+
 MERGE = '''
 @cuda.jit
 def merge_kernel(prm, lo, nloc, g_mass, g_vel, g_vel_old, fold_old):
@@ -155,6 +163,13 @@ def node_kernel(rule, scratch: int, slots: int, maxima=()):
 def particle_kernel(rule, scratch: int, slots: int, maxima=()):
     return _kernel("particle", "particle_kernel", _pass_source(PARTICLE, scratch, slots, maxima),
                    {"particle_rule": rule})
+
+
+def each_kernel(fn):
+    """One thread per item around a scheme's per-item function ``fn(i, *args)`` (backend/item_loops.py)."""
+    from geompm.backend.item_loops import item_arguments
+
+    return _kernel("each", "each_kernel", EACH.format(args=item_arguments(fn)), {"item": fn})
 
 
 def merge_kernel(image):

@@ -59,12 +59,15 @@ def resolve(ref):
 
 
 def encode_type(value) -> list:
-    """A kernel argument's numba type, as JSON: ["array", dtype, ndim, layout] or [scalar type name]."""
+    """A kernel argument's numba type, as JSON: ["array", dtype, ndim, layout], ["tuple", [item types]] (a
+    stencil tag, kernels/stencil.py) or [scalar type name]."""
     import numba
 
     value = getattr(value, "_ary", value)  # the simulator's device array holds a numpy array
     if isinstance(value, np.ndarray):
         return ["array", str(value.dtype), int(value.ndim), numba.typeof(value).layout]
+    if isinstance(value, tuple):
+        return ["tuple", [encode_type(v) for v in value]]
     return [str(numba.typeof(value))]
 
 
@@ -73,6 +76,8 @@ def decode_type(code: list):
 
     if code[0] == "array":
         return types.Array(numba_dtype(code[1]), code[2], code[3])
+    if code[0] == "tuple":
+        return types.Tuple([decode_type(c) for c in code[1]])
     return types.boolean if code[0] == "bool" else getattr(types, code[0])
 
 

@@ -199,7 +199,7 @@ def run(case: dict, backend: str, steps: int, folder: Path):
     rows[-1].update({f"{s.label}_max_depth": s.max_depth for s in sim.particle_stages if hasattr(s, "max_depth")})
     st = sim.state
     order = np.argsort(st.p_id)
-    names = ("p_x", "p_v", "p_stress", "p_rho") + (("p_pore", "p_vw") if st.p_pore is not None else ())
+    names = ("p_x", "p_v", "p_stress", "p_rho") + tuple(f.name for f in sim.scheme.fields if f.name in ("p_pore", "p_vw"))
     fields = {k: getattr(st, k)[order].astype(np.float64) for k in names}
     return fields, rows, sim, wall
 

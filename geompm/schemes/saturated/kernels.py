@@ -24,17 +24,18 @@ the pore pressure follows the water's mass balance (pressure_increment, at the p
 with p = 0 on drained particles (at the free surface, at a drained boundary, separated or dry); the porosity
 follows the skeleton's volume, n = 1 - (1 - n0) V0 / V. Each particle carries its own sum of increments
 (p_pore_carried); the pressure that acts on the grid is that sum seen through the grid, S p_pore_carried
-(smooth_scatter, smooth_gather), and the increment passes through the same S: the exchange of energy between the pressure and
-the velocities then balances (docs/pore-water.md). Each pass is a per-item function (``*_one``) that the
-CPU passes (schemes/saturated/cpu.py) and the CUDA kernels (schemes/saturated/cuda.py) call alike.
+(a scatter of V and V p, smooth_node_one, smooth_gather_one), and the increment passes through the same S:
+the exchange of energy between the pressure and the velocities then balances (docs/pore-water.md).
+
+Every pass but the two scatters is a per-item function here (``*_one``, of one particle or one node) that
+the backend's generated loops run, one source for the CPU and the GPU (Backend.each; backend/item_loops.py,
+backend/cuda_loops.py); the scatters add into the grid as the solid's P2G does, with private grids per chunk
+on the CPU (schemes/saturated/cpu_scatter.py) and atomics on the GPU (schemes/saturated/cuda.py).
 """
 
-import math
-
-from numba import njit, prange
+from numba import njit
 
 from geompm.contract.layout import param_layout
-from geompm.kernels.chunks import zero_rows
 from geompm.kernels.shape import LINEAR, axis_stencil
 
 #: a material's row of the pore-water table (schemes/saturated/setup.py): the water's density [kg/m3], bulk
@@ -89,13 +90,6 @@ def prepare_one(p, p_stress, p_pore, p_n, p_sat, p_vol, p_material, table, p_tot
     p_drag[p] = s * n * n * row[WATER.mu_w] / permeability(row, n) * p_vol[p] if s > 0.0 else 0.0
 
 
-@njit(parallel=True, cache=True)
-def prepare(p_stress, p_pore, p_n, p_sat, p_vol, p_material, table, p_total, p_wmass, p_drag):
-    """prepare_one over the particles."""
-    for p in prange(p_stress.shape[0]):
-        prepare_one(p, p_stress, p_pore, p_n, p_sat, p_vol, p_material, table, p_total, p_wmass, p_drag)
-
-
 @njit(cache=True, inline="always")
 def particle_stencil(p_x, p, origin, kind, inv_h, d):
     """Particle p's stencil: its base node (3-tuple) and the weights and derivatives along x, y and z
@@ -105,19 +99,6 @@ def particle_stencil(p_x, p, origin, kind, inv_h, d):
     zc = (p_x[p, 2] - origin[2]) * inv_h if d == 3 else 0.0
     bz, wz, dz = axis_stencil(zc, kind if d == 3 else LINEAR, inv_h)
     return (bx, by, bz), wx, dx, wy, dy, wz, dz
-
-
-@njit(parallel=True, cache=True)
-def sum_chunks(c_grid, out):
-    """out[i, a] = sum over chunks of c_grid[c, i, a], in chunk order (the private grids of water_p2g)."""
-    nchunks = c_grid.shape[0]
-    width = c_grid.shape[2]
-    for i in prange(out.shape[0]):
-        for a in range(width):
-            t = 0.0
-            for c in range(nchunks):
-                t += c_grid[c, i, a]
-            out[i, a] = t
 
 
 @njit(cache=True, inline="always")
@@ -134,73 +115,6 @@ def water_scalars_one(p, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material,
     return (p_wmass[p], wet(row, p_sat[p], p_n[p]) * p_n[p] * p_pore[p] * p_vol[p], p_drag[p], p_vol[p])
 
 
-@njit(parallel=True, cache=True)
-def water_p2g(tag, p_x, p_vw, p_Cw, affine, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material, table,
-              origin, h, kind, lo, nloc, c_grid, g_w):
-    """Scatter the water into the private grids c_grid, rows [m_w, m_w v_w (d), the water's internal force
-    sum V s n p grad N (d), c, V] (V the particles' volume, for the free-surface fill); sum_chunks adds them
-    into g_w.  With ``affine`` (the solid's transfer APIC or MLS) the water's momentum carries its affine
-    matrix, m_w (v_w + C_w (x_I - x_p)), as the solid's does: a water transferred by PIC would damp the
-    mixture's shear and rotation each step through the drag that binds the phases, and the mixture would
-    flow as if it were PIC (measured in docs/pore-water.md)."""
-    n = p_x.shape[0]
-    d = p_x.shape[1]
-    nchunks = c_grid.shape[0]
-    width = g_w.shape[1]
-    nn = g_w.shape[0]
-    S = len(tag)
-    inv_h = 1.0 / h
-    Sz = S if d == 3 else 1
-    for c in prange(nchunks):
-        g = c_grid[c]
-        zero_rows(g, nn, width)
-        for p in range(c * n // nchunks, (c + 1) * n // nchunks):
-            b, wx, dx, wy, dy, wz, dz = particle_stencil(p_x, p, origin, kind, inv_h, d)
-            m, npv, drag, vol = water_scalars_one(p, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material, table)
-            q0 = m * p_vw[p, 0]
-            q1 = m * p_vw[p, 1]
-            q2 = m * p_vw[p, 2] if d == 3 else 0.0
-            # the affine part m C_w (x_I - x_p), x_I - x_p = o + h (i, j, k): per axis a the row of m C_w
-            c00 = c01 = c02 = c10 = c11 = c12 = c20 = c21 = c22 = 0.0
-            o0 = o1 = o2 = 0.0
-            if affine:
-                c00, c01, c10, c11 = m * p_Cw[p, 0, 0], m * p_Cw[p, 0, 1], m * p_Cw[p, 1, 0], m * p_Cw[p, 1, 1]
-                o0 = b[0] * h + origin[0] - p_x[p, 0]
-                o1 = b[1] * h + origin[1] - p_x[p, 1]
-                if d == 3:
-                    c02, c12 = m * p_Cw[p, 0, 2], m * p_Cw[p, 1, 2]
-                    c20, c21, c22 = m * p_Cw[p, 2, 0], m * p_Cw[p, 2, 1], m * p_Cw[p, 2, 2]
-                    o2 = b[2] * h + origin[2] - p_x[p, 2]
-            for i in range(S):
-                ex = o0 + i * h
-                for j in range(S):
-                    ey = o1 + j * h
-                    wij = wx[i] * wy[j]
-                    fx = npv * dx[i] * wy[j]
-                    fy = npv * wx[i] * dy[j]
-                    fz = npv * wij
-                    r0 = q0 + c00 * ex + c01 * ey
-                    r1 = q1 + c10 * ex + c11 * ey
-                    r2 = q2 + c20 * ex + c21 * ey
-                    for k in range(Sz):
-                        wt = wij * wz[k]
-                        idx = node_index(b, lo, nloc, i, j, k, d)
-                        g[idx, NODE_WATER.mass] += wt * m
-                        g[idx, NODE_WATER.force_x] += fx * wz[k]
-                        g[idx, NODE_WATER.force_y] += fy * wz[k]
-                        if d == 3:
-                            ez = o2 + k * h
-                            g[idx, NODE_WATER.mom_x] += wt * (r0 + c02 * ez)
-                            g[idx, NODE_WATER.mom_y] += wt * (r1 + c12 * ez)
-                            g[idx, NODE_WATER.mom_z] += wt * (r2 + c22 * ez)
-                            g[idx, NODE_WATER.force_z] += fz * dz[k]
-                        else:
-                            g[idx, NODE_WATER.mom_x] += wt * r0
-                            g[idx, NODE_WATER.mom_y] += wt * r1
-                        g[idx, NODE_WATER.drag] += wt * drag
-                        g[idx, NODE_WATER.volume] += wt * vol
-
-
 @njit(cache=True, inline="always")
 def node_mixture_one(i, g_mass, g_mom, g_w, mass_eps, g_rel):
     """Node i: the mixture on the solid's arrays and the relative velocity before the step.  In: g_mass,
@@ -213,12 +127,6 @@ def node_mixture_one(i, g_mass, g_mom, g_w, mass_eps, g_rel):
         g_rel[i, a] = g_w[i, MOM + a] / mw - g_mom[i, a] / ms if ms > mass_eps and mw > mass_eps else 0.0
         g_mom[i, a] += g_w[i, MOM + a]
     g_mass[i] = ms + mw
-
-
-@njit(parallel=True, cache=True)
-def node_mixture(g_mass, g_mom, g_w, mass_eps, g_rel):
-    for i in prange(g_mom.shape[0]):
-        node_mixture_one(i, g_mass, g_mom, g_w, mass_eps, g_rel)
 
 
 @njit(cache=True, inline="always")
@@ -246,10 +154,14 @@ def node_relative_one(i, g_mass, g_vel, g_vel_old, g_w, gravity, dt, mass_eps, g
             g_rel[i, a] = 0.0
 
 
-@njit(parallel=True, cache=True)
-def node_relative(g_mass, g_vel, g_vel_old, g_w, gravity, dt, mass_eps, g_rel, g_rel0):
-    for i in prange(g_vel.shape[0]):
-        node_relative_one(i, g_mass, g_vel, g_vel_old, g_w, gravity, dt, mass_eps, g_rel, g_rel0)
+@njit(cache=True, inline="always")
+def node_snapshot_one(i, g_mass, g_vel, g_vel_old, g_w, gravity, dt, mass_eps, g_rel, g_rel0, g_vpre):
+    """Node i once gravity, the loads and the damping have acted on the mixture: node_relative_one, and the
+    mixture's velocity kept in g_vpre before the boundaries and obstacles act (node_split_one finds what they
+    changed)."""
+    node_relative_one(i, g_mass, g_vel, g_vel_old, g_w, gravity, dt, mass_eps, g_rel, g_rel0)
+    for a in range(g_vel.shape[1]):
+        g_vpre[i, a] = g_vel[i, a]
 
 
 @njit(cache=True)
@@ -309,14 +221,12 @@ def one_node_fill(i, g_w, walls, origin, h, lo, nloc, d, cell_volume):
     return f
 
 
-@njit(parallel=True, cache=True)
-def node_fill(g_w, walls, origin, h, lo, nloc, cell_volume, g_fill):
-    """The nodes' fill: the particles' volume fraction, with the body mirrored in every impermeable wall
+@njit(cache=True, inline="always")
+def node_fill_one(i, g_w, walls, origin, h, lo, nloc, cell_volume, g_fill):
+    """Node i's fill: the particles' volume fraction, with the body mirrored in every impermeable wall
     (and in each pair of them, for corners), so that a wall is not taken for a free surface while the
     body's real free surface still is (docs/pore-water.md, Free surface)."""
-    d = len(lo)
-    for i in prange(g_fill.shape[0]):
-        g_fill[i] = one_node_fill(i, g_w, walls, origin, h, lo, nloc, d, cell_volume)
+    g_fill[i] = one_node_fill(i, g_w, walls, origin, h, lo, nloc, len(lo), cell_volume)
 
 
 @njit(cache=True, inline="always")
@@ -396,21 +306,14 @@ def node_split_one(i, g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, walls, origin, 
             g_vel[i, 2] -= fw * w2
 
 
-@njit(parallel=True, cache=True)
-def node_split(g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, walls, origin, h, lo, nloc, gravity, dt, mass_eps,
-               g_vw):
-    for i in prange(g_vel.shape[0]):
-        node_split_one(i, g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, walls, origin, h, lo, nloc, gravity, dt,
-                       mass_eps, g_vw)
-
-
 @njit(cache=True, inline="always")
-def water_g2p_one(p, S, p_x, p_vw, p_Cw, affine, apic_dinv, p_divw, p_divs, p_fill, g_vw, g_vs, g_fill, origin, h,
+def water_g2p_one(p, tag, p_x, p_vw, p_Cw, affine, apic_dinv, p_divw, p_divs, p_fill, g_vw, g_vs, g_fill, origin, h,
                   kind, lo, nloc):
-    """Particle p (S nodes per axis): the water's particle velocity, its affine matrix (with ``affine``: C_w = B_w D^-1 as the solid's
+    """Particle p (``tag``: the stencil's S nodes per axis, kernels/stencil.py): the water's particle velocity, its affine matrix (with ``affine``: C_w = B_w D^-1 as the solid's
     APIC, B_w = sum N v_wI (x_I - x_p)^T, or the velocity gradient for linear hats, apic_dinv = 0), the
     divergences of the water's and the solid's velocities at the particle and the node fill interpolated
     (at the particles' positions before they move)."""
+    S = len(tag)
     d = p_x.shape[1]
     inv_h = 1.0 / h
     Sz = S if d == 3 else 1
@@ -475,15 +378,6 @@ def water_g2p_one(p, S, p_x, p_vw, p_Cw, affine, apic_dinv, p_divw, p_divs, p_fi
     p_fill[p] = fill
 
 
-@njit(parallel=True, cache=True)
-def water_g2p(tag, p_x, p_vw, p_Cw, affine, apic_dinv, p_divw, p_divs, p_fill, g_vw, g_vs, g_fill, origin, h,
-              kind, lo, nloc):
-    S = len(tag)
-    for p in prange(p_x.shape[0]):
-        water_g2p_one(p, S, p_x, p_vw, p_Cw, affine, apic_dinv, p_divw, p_divs, p_fill, g_vw, g_vs, g_fill, origin,
-                      h, kind, lo, nloc)
-
-
 @njit(cache=True, inline="always")
 def drained(row, sat, n, fill):
     """A particle without pore pressure: dry, separated or drained (at the free surface or a drained wall:
@@ -497,12 +391,6 @@ def porosity_one(p, p_n, p_vol, p_vol0, p_material, table):
     row = table[p_material[p]]
     if row[WATER.n0] > 0.0:
         p_n[p] = max(1.0 - (1.0 - row[WATER.n0]) * p_vol0[p] / p_vol[p], 1e-6)
-
-
-@njit(parallel=True, cache=True)
-def porosity_update(p_n, p_vol, p_vol0, p_material, table):
-    for p in prange(p_n.shape[0]):
-        porosity_one(p, p_n, p_vol, p_vol0, p_material, table)
 
 
 @njit(cache=True, inline="always")
@@ -519,93 +407,25 @@ def speed_terms_one(p, p_v, p_vw, p_n, p_rho, p_sat, row):
     return p_n[p] if s > 0.0 else 1.0, p_rho[p], p_rho[p] + s * p_n[p] * row[WATER.rho_w], max(vs, vw)
 
 
-@njit(parallel=True, cache=True)
-def speed_bounds(p_v, p_vw, p_n, p_rho, p_sat, row, start, end):
-    """Over the particles start..end of one material (row: its table row): (min n of the wet particles, 1
-    if none; max dry density; min saturated density; max |v| of either phase), for the stable step."""
-    n_min = 1.0
-    rho_max = 0.0
-    sat_min = math.inf
-    v2_max = 0.0
-    for p in prange(start, end):
-        n, rho, sat, v2 = speed_terms_one(p, p_v, p_vw, p_n, p_rho, p_sat, row)
-        n_min = min(n_min, n)
-        rho_max = max(rho_max, rho)
-        sat_min = min(sat_min, sat)
-        v2_max = max(v2_max, v2)
-    return n_min, rho_max, sat_min, math.sqrt(v2_max)
-
-
 @njit(cache=True, inline="always")
 def flag_drained_one(p, p_fill, p_sat, p_n, p_material, table, p_drained):
     """p_drained[p] = 1 where particle p holds no pore pressure (``drained``), 0 where it holds one."""
     p_drained[p] = 1.0 if drained(table[p_material[p]], p_sat[p], p_n[p], p_fill[p]) else 0.0
 
 
-@njit(parallel=True, cache=True)
-def flag_drained(p_fill, p_sat, p_n, p_material, table, p_drained):
-    for p in prange(p_fill.shape[0]):
-        flag_drained_one(p, p_fill, p_sat, p_n, p_material, table, p_drained)
-
-
-@njit(parallel=True, cache=True)
-def smooth_scatter(tag, p_x, p_val, p_drained, p_vol, origin, h, kind, lo, nloc, c_grid, g_vp):
-    """The scatter of the smoothing S (smooth_gather): g_vp[i] = (sum N V, sum N V f) over the particles that
-    hold pressure (p_drained 0), summed over the private grids in chunk order.  On several ranks the
-    neighbours' partial sums are added to g_vp before smooth_gather (parallel/slabs.py)."""
-    n = p_x.shape[0]
-    d = p_x.shape[1]
-    nchunks = c_grid.shape[0]
-    nn = g_vp.shape[0]
-    S = len(tag)
-    inv_h = 1.0 / h
-    Sz = S if d == 3 else 1
-    for c in prange(nchunks):
-        g = c_grid[c]
-        zero_rows(g, nn, 2)
-        for p in range(c * n // nchunks, (c + 1) * n // nchunks):
-            if p_drained[p] != 0.0:
-                continue
-            b, wx, dx, wy, dy, wz, dz = particle_stencil(p_x, p, origin, kind, inv_h, d)
-            v = p_vol[p]
-            vp = v * p_val[p]
-            for i in range(S):
-                for j in range(S):
-                    wij = wx[i] * wy[j]
-                    for k in range(Sz):
-                        wt = wij * wz[k]
-                        idx = node_index(b, lo, nloc, i, j, k, d)
-                        g[idx, 0] += wt * v
-                        g[idx, 1] += wt * vp
-    for i in prange(nn):
-        v = 0.0
-        vp = 0.0
-        for c in range(nchunks):
-            v += c_grid[c, i, 0]
-            vp += c_grid[c, i, 1]
-        g_vp[i, 0] = v
-        g_vp[i, 1] = vp
-
-
-@njit(parallel=True, cache=True)
-def smooth_gather(tag, p_x, p_drained, g_vp, origin, h, kind, lo, nloc, g_p, p_out):
-    """p_out = S p_val: the field seen through the grid, p_out = sum_I N_I f_I with
-    f_I = sum N V f / sum N V (g_vp of smooth_scatter) over the particles that hold pressure, and p_out = 0
-    on the others.  S is self-adjoint in the particles' volume-weighted inner product, so a pressure and its
-    increment both seen through it exchange energy with the velocities without a residue (docs/pore-water.md)."""
-    S = len(tag)
-    for i in prange(g_p.shape[0]):
-        g_p[i] = g_vp[i, 1] / g_vp[i, 0] if g_vp[i, 0] > 0.0 else 0.0
-    for p in prange(p_x.shape[0]):
-        smooth_gather_one(p, S, p_x, p_drained, g_p, origin, h, kind, lo, nloc, p_out)
+@njit(cache=True, inline="always")
+def smooth_node_one(i, g_vp, g_p):
+    """Node i of the smoothing S: f_I = sum N V f / sum N V (g_vp: the scatter's sums, halo summed)."""
+    g_p[i] = g_vp[i, 1] / g_vp[i, 0] if g_vp[i, 0] > 0.0 else 0.0
 
 
 @njit(cache=True, inline="always")
-def smooth_gather_one(p, S, p_x, p_drained, g_p, origin, h, kind, lo, nloc, p_out):
-    """p_out[p] = sum_I N_I g_p[I] (0 where particle p is drained): the gather of grid_smooth."""
+def smooth_gather_one(p, tag, p_x, p_drained, g_p, origin, h, kind, lo, nloc, p_out):
+    """p_out[p] = sum_I N_I g_p[I] (0 where particle p is drained): the gather of the smoothing S (after smooth_node_one)."""
     if p_drained[p] != 0.0:
         p_out[p] = 0.0
         return
+    S = len(tag)
     d = p_x.shape[1]
     Sz = S if d == 3 else 1
     b, wx, dx, wy, dy, wz, dz = particle_stencil(p_x, p, origin, kind, 1.0 / h, d)
@@ -626,12 +446,6 @@ def pressure_increment_one(p, p_dp, p_divw, p_divs, p_n, p_material, table, dt):
     p_dp[p] = -dt * row[WATER.k_w] / n * ((1.0 - n) * p_divs[p] + n * p_divw[p]) if n > 0.0 else 0.0
 
 
-@njit(parallel=True, cache=True)
-def pressure_increment(p_dp, p_divw, p_divs, p_n, p_material, table, dt):
-    for p in prange(p_dp.shape[0]):
-        pressure_increment_one(p, p_dp, p_divw, p_divs, p_n, p_material, table, dt)
-
-
 @njit(cache=True, inline="always")
 def add_increment_one(p, p_carried, p_pore, p_dp, p_drained):
     """Both pressures of particle p += dp where it holds pressure; both 0 where it is drained."""
@@ -641,9 +455,3 @@ def add_increment_one(p, p_carried, p_pore, p_dp, p_drained):
     else:
         p_carried[p] += p_dp[p]
         p_pore[p] += p_dp[p]
-
-
-@njit(parallel=True, cache=True)
-def add_increment(p_carried, p_pore, p_dp, p_drained):
-    for p in prange(p_pore.shape[0]):
-        add_increment_one(p, p_carried, p_pore, p_dp, p_drained)

@@ -18,9 +18,28 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit, prange
 
 from geompm.backend.cpu_loops import law_wave_speed
 from geompm.schemes.saturated import kernels as tp
+from geompm.schemes.saturated.kernels import speed_terms_one
+
+
+@njit(parallel=True, cache=True)
+def speed_bounds(p_v, p_vw, p_n, p_rho, p_sat, row, start, end):
+    """Over the particles start..end of one material (row: its table row): (min n of the wet particles, 1
+    if none; max dry density; min saturated density; max |v| of either phase), for the stable step."""
+    n_min = 1.0
+    rho_max = 0.0
+    sat_min = math.inf
+    v2_max = 0.0
+    for p in prange(start, end):
+        n, rho, sat, v2 = speed_terms_one(p, p_v, p_vw, p_n, p_rho, p_sat, row)
+        n_min = min(n_min, n)
+        rho_max = max(rho_max, rho)
+        sat_min = min(sat_min, sat)
+        v2_max = max(v2_max, v2)
+    return n_min, rho_max, sat_min, math.sqrt(v2_max)
 
 
 #: a material's row of the extremes the speeds are bounded by: its law's speed [m/s], minus the smallest
@@ -36,7 +55,7 @@ def block_extremes(scene, state, pw) -> np.ndarray:
     for k, (mat, (s, e)) in enumerate(zip(scene.materials, state.blocks)):
         if e <= s:
             continue
-        n_min, rho_d, rho_sat, flow = tp.speed_bounds(state.p_v, state.p_vw, state.p_n, state.p_rho, state.p_sat,
+        n_min, rho_d, rho_sat, flow = speed_bounds(state.p_v, state.p_vw, state.p_n, state.p_rho, state.p_sat,
                                                       pw.table[k], s, e)
         rows[k] = (law_wave_speed(mat, state.p_rho[s:e]), -n_min, rho_d, -rho_sat, flow)
     return rows

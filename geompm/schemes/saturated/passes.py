@@ -1,0 +1,170 @@
+"""The saturated scheme's passes, one order for every backend (docs/pore-water.md; schemes/saturated/scheme.py).
+
+    p2g: the acting pressure p = S p_carried (scatter, halo, smooth_node_one, smooth_gather_one), the total
+         stress, water mass and drag (prepare_one), the solid's P2G on the total stress, the water's P2G, the
+         halo summed, the nodes' fill (node_fill_one) and the mixture (node_mixture_one)
+    -> grid update (the mixture) -> stages before BOUNDARY
+    -> snapshot: the relative velocity, drag implicit (node_snapshot_one) -> BOUNDARY and OBSTACLE stages
+    -> split: solid and water velocities (node_split_one)
+    -> water_g2p: the water's G2P (water_g2p_one), the drained flag, the pressure's increment, the increment
+       seen through the grid, both pressures advanced
+    -> solid G2P -> particle stages -> porosity (porosity_one) -> effective-stress update (the laws)
+
+Every pass but the two scatters is a per-item function of schemes/saturated/kernels.py run through the
+backend's generated loop (``Backend.each``): one source for the CPU and the GPU.  A backend's subclass gives
+what differs: where arrays live (``_zeros``, ``_on_device``, ``particles``, ``window_index``) and the scatters
+(the water's P2G, the smoothing's P2G, the solid's P2G from the total stress): schemes/saturated/cpu.py,
+cuda.py.
+
+``halo(arrays)`` adds the neighbouring ranks' partial sums of window arrays on the nodes they share
+(parallel/slabs.py; nothing in one process): after every scatter and before anything reads its sums.
+"""
+
+from __future__ import annotations
+
+from geompm.kernels.stencil import AFFINE, stencil_tag
+from geompm.schemes.saturated import kernels as tp
+
+
+class SaturatedPasses:
+    #: the scheme's particle arrays a device backend keeps on the device
+    device_arrays: tuple[str, ...] = ()
+
+    def __init__(self, backend, water):
+        self.be = backend
+        self.scene = backend.scene
+        self.pw = water
+        self.tag = stencil_tag(self.scene.grid.kind)
+        self.smoothing = bool(water.smoothing)
+        self.affine = self.scene.transfer in AFFINE  # the water's transfer follows the solid's
+        self.table = self._on_device(water.table)
+        self.walls = self._on_device(water.walls)
+        self.gravity = self._on_device(self.scene.gravity)
+        self._origin = self._on_device(self.scene.grid.origin)
+        self.cap = 0
+        self.n = -1
+        self._grid(1024)
+
+    # -- what a backend gives --------------------------------------------------------------------------
+    def _zeros(self, shape):
+        raise NotImplementedError
+
+    def _on_device(self, array):
+        raise NotImplementedError
+
+    def particles(self):
+        """The particle arrays by attribute (p_x, p_pore, ...) where the backend's kernels read them."""
+        raise NotImplementedError
+
+    def window_index(self, view):
+        """The window's first node and size per axis (lo, nloc) where the kernels read them."""
+        raise NotImplementedError
+
+    def _scatter(self, view, lo, nloc, P) -> None:
+        """The solid's P2G from the total stress (P.p_total) and the water's P2G into g_w (both zeroed
+        first), summed over this process's particles."""
+        raise NotImplementedError
+
+    def _smooth_scatter(self, view, lo, nloc, P, p_val) -> None:
+        """g_vp[I] = (sum N V, sum N V f) over the particles that hold pressure."""
+        raise NotImplementedError
+
+    # -- arrays ------------------------------------------------------------------------------------------
+    def _grid(self, cap):
+        d = self.scene.dim
+        self.cap = cap
+        self.g_w = self._zeros((cap, tp.WATER_WIDTH))
+        self.g_vp = self._zeros((cap, 2))
+        self.g_p = self._zeros(cap)
+        self.g_rel = self._zeros((cap, d))
+        self.g_rel0 = self._zeros((cap, d))
+        self.g_vw = self._zeros((cap, d))
+        self.g_vpre = self._zeros((cap, d))
+        self.g_fill = self._zeros(cap)
+
+    def _particles(self, n):
+        if n != self.n:
+            self.n = n
+            self.p_total = self._zeros((n, 6))
+            self.p_wmass, self.p_drag = self._zeros(n), self._zeros(n)
+            self.p_divw, self.p_divs = self._zeros(n), self._zeros(n)
+            self.p_dp, self.p_dps = self._zeros(n), self._zeros(n)
+            self.p_fill = self._zeros(n)
+
+    def _arrays(self):
+        grid = (self.g_w, self.g_vp, self.g_p, self.g_rel, self.g_rel0, self.g_vw, self.g_vpre, self.g_fill)
+        parts = () if self.n < 0 else (self.p_total, self.p_wmass, self.p_drag, self.p_divw, self.p_divs,
+                                       self.p_dp, self.p_dps, self.p_fill)
+        return grid + parts
+
+    def nbytes(self) -> int:
+        return sum(a.nbytes for a in self._arrays())
+
+    def _nodes(self, view) -> int:
+        nn = view.g_mass.shape[0]
+        if nn > self.cap:
+            self._grid(int(nn * 1.25) + 64)
+        return nn
+
+    # -- the passes --------------------------------------------------------------------------------------
+    def _smooth(self, view, lo, nloc, halo, P, p_val, p_out) -> None:
+        """p_out = S p_val, the field seen through the grid."""
+        g, nn = self.scene.grid, view.g_mass.shape[0]
+        self._smooth_scatter(view, lo, nloc, P, p_val)
+        halo((self.g_vp[:nn],))
+        self.be.each(tp.smooth_node_one, nn, self.g_vp[:nn], self.g_p[:nn])
+        self.be.each(tp.smooth_gather_one, self.n, self.tag, P.p_x, P.p_drained, self.g_p[:nn], self._origin, g.h,
+                     g.kind, lo, nloc, p_out)
+
+    def p2g(self, view, halo) -> None:
+        """Both phases onto the grid; leaves the mixture on the view (mass, momentum, internal force), the
+        relative velocity w in g_rel and the nodes' fill."""
+        be, g = self.be, self.scene.grid
+        P = self.particles()
+        self._particles(self.be.state.n)
+        nn = self._nodes(view)
+        lo, nloc = self.window_index(view)
+        if self.smoothing:
+            self._smooth(view, lo, nloc, halo, P, P.p_pore_carried, P.p_pore)
+        be.each(tp.prepare_one, self.n, P.p_stress, P.p_pore, P.p_n, P.p_sat, P.p_vol, P.p_material, self.table,
+                self.p_total, self.p_wmass, self.p_drag)
+        self._scatter(view, lo, nloc, P)
+        halo((view.g_mass, view.g_mom, view.g_force, self.g_w[:nn]))
+        be.each(tp.node_fill_one, nn, self.g_w[:nn], self.walls, self._origin, g.h, lo, nloc,
+                g.h ** self.scene.dim, self.g_fill[:nn])
+        be.each(tp.node_mixture_one, nn, view.g_mass, view.g_mom, self.g_w[:nn], be.mass_eps, self.g_rel[:nn])
+
+    def snapshot(self, view, dt: float) -> None:
+        """Once gravity, the loads and the damping have acted on the mixture: the relative velocity after
+        the step, and the mixture's velocities before the boundaries and obstacles act."""
+        nn = view.g_vel.shape[0]
+        self.be.each(tp.node_snapshot_one, nn, view.g_mass, view.g_vel, view.g_vel_old, self.g_w[:nn],
+                     self.gravity, dt, self.be.mass_eps, self.g_rel[:nn], self.g_rel0[:nn], self.g_vpre[:nn])
+
+    def split(self, view, dt: float) -> None:
+        g, nn = self.scene.grid, view.g_vel.shape[0]
+        lo, nloc = self.window_index(view)
+        self.be.each(tp.node_split_one, nn, view.g_mass, view.g_vel, self.g_vpre[:nn], self.g_w[:nn],
+                     self.g_rel[:nn], self.g_rel0[:nn], self.walls, self._origin, g.h, lo, nloc, self.gravity, dt,
+                     self.be.mass_eps, self.g_vw[:nn])
+
+    def water_g2p(self, view, dt: float, halo) -> None:
+        """The water's particle velocity and the pore pressure's step, at the particles before they move."""
+        be, g, nn, n = self.be, self.scene.grid, view.g_vel.shape[0], self.n
+        P = self.particles()
+        lo, nloc = self.window_index(view)
+        be.each(tp.water_g2p_one, n, self.tag, P.p_x, P.p_vw, P.p_Cw, self.affine, self.scene.apic_dinv,
+                self.p_divw, self.p_divs, self.p_fill, self.g_vw[:nn], view.g_vel, self.g_fill[:nn], self._origin,
+                g.h, g.kind, lo, nloc)
+        be.each(tp.flag_drained_one, n, self.p_fill, P.p_sat, P.p_n, P.p_material, self.table, P.p_drained)
+        be.each(tp.pressure_increment_one, n, self.p_dp, self.p_divw, self.p_divs, P.p_n, P.p_material, self.table,
+                dt)
+        dp = self.p_dp
+        if self.smoothing:
+            self._smooth(view, lo, nloc, halo, P, self.p_dp, self.p_dps)
+            dp = self.p_dps
+        be.each(tp.add_increment_one, n, P.p_pore_carried, P.p_pore, dp, P.p_drained)
+
+    def porosity(self) -> None:
+        P = self.particles()
+        self.be.each(tp.porosity_one, self.be.state.n, P.p_n, P.p_vol, P.p_vol0, P.p_material, self.table)
