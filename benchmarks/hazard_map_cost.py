@@ -9,20 +9,17 @@ per-step pass (binning the particles into the DEM's pixels and updating the maxi
 
 import argparse
 import math
-import sys
 import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
 
-import tests.verification.test_terrain as T  # noqa: E402
-from geompm.api import scene_from_dict  # noqa: E402
-from geompm.engine.scheduler import Simulation  # noqa: E402
-from geompm.writers.hazard_maps import HazardMapParams, HazardMapWriter  # noqa: E402
+import geompm.testing.verification.terrain_block as T
+from geompm.api import scene_from_dict
+from geompm.engine.scheduler import Simulation
+from geompm.writers.hazard_maps import HazardMapParams, HazardMapWriter
 
 
 def main():
@@ -31,7 +28,7 @@ def main():
     ap.add_argument("--steps", type=int, default=40)
     a = ap.parse_args()
     tmp = Path(tempfile.mkdtemp())
-    case, down, height = T._block_case(tmp, 30.0, 0.0, 0.3, "terrain")
+    case, down, height = T.block_case(tmp, 30.0, 0.0, 0.3, "terrain")
     import trimesh
 
     th = math.radians(30.0)

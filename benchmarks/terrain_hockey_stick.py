@@ -8,14 +8,10 @@ The closed form and the scene: tests/verification/test_hockey_stick.py.  Prints 
 past the kink at each cell size (DEM pixel = cell size / pixel ratio) against both kink models.
 """
 
-import sys
 import time
-from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
 
-from tests.verification.test_hockey_stick import ELASTIC, closed_form, stopping_distance  # noqa: E402
+from geompm.testing.verification.hockey_stick import ELASTIC, closed_form, stopping_distance
 
 
 def main():

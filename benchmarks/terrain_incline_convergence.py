@@ -14,10 +14,8 @@ import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
 
-import tests.verification.test_terrain as T  # noqa: E402
+import geompm.testing.verification.terrain_block as T
 
 
 def main():
@@ -25,21 +23,10 @@ def main():
     th = math.radians(30.0)
     exact = 9.81 * (math.sin(th) - 0.3 * math.cos(th)) * 0.4 ** 2 / 2
     for h in sizes:
-        T_case = T._block_case
-
-        def case_at(tmp, theta, turn, mu, floor, h=h):
-            case, down, height = T_case(tmp, theta, turn, mu, floor)
-            case["grid"]["cell_size"] = h
-            if floor == "terrain":
-                n = int(round(2.2 / h))
-                T.write_dem(tmp / "slope.tif", height, -0.2, -0.2, n, n, h)
-            return case, down, height
-        T._block_case = case_at
         t0 = time.perf_counter()
-        s_dem, sim, low, fn = T._slide(Path(tempfile.mkdtemp()), 37.0, "terrain")
+        s_dem, sim, low, fn = T.slide(Path(tempfile.mkdtemp()), 37.0, "terrain", h=h)
         wall = time.perf_counter() - t0
-        s_pl, _, _, _ = T._slide(Path(tempfile.mkdtemp()), 37.0, "plane")
-        T._block_case = T_case
+        s_pl, _, _, _ = T.slide(Path(tempfile.mkdtemp()), 37.0, "plane", h=h)
         m = float(sim.state.p_mass.sum())
         print(f"h = {h:g} m: {sim.state.n} particles, {sim.step_count} steps, {wall:.1f} s; slid {s_dem:.4f} m "
               f"(plane {s_pl:.4f}, exact {exact:.4f}: {100 * (s_dem / exact - 1):+.2f} %); mean F_n {fn:.2f} N "

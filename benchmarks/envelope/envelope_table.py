@@ -10,14 +10,9 @@ grid, E_k within 5 % of the supply).
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT))
-
-from tests.envelope.harness import column, run  # noqa: E402
-from tests.envelope.test_envelope import SOIL  # noqa: E402
+from geompm.testing.verification.envelope import column, run
+from geompm.testing.verification.envelope import SOIL
 
 
 def main() -> None:

@@ -8,13 +8,11 @@ against the one-process run.
 from __future__ import annotations
 
 import json
-import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
-from tests.mpi.test_same_answers import SCENES  # noqa: E402
-from tests.support import mpi  # noqa: E402
+from geompm.testing.verification.mpi_scenes import SCENES
+from geompm.testing.verification import mpi_runs as mpi
 
 
 def main(out: Path, only=()) -> None:

@@ -1,5 +1,5 @@
 """The saturated-soil verification columns of docs/pore-water.md at three cell sizes each
-(tests/support/saturated.py): the hydrostatic column, Terzaghi's consolidation (stiff and soft sets),
+(geompm/testing/verification/saturated_columns.py): the hydrostatic column, Terzaghi's consolidation (stiff and soft sets),
 undrained loading, steady seepage and the undrained P-wave.  One JSON line per run.
 
     python benchmarks/pore_water/columns.py [hydro|terzaghi|undrained|seepage|wave ...]
@@ -7,11 +7,9 @@ undrained loading, steady seepage and the undrained P-wave.  One JSON line per r
 
 import json
 import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
-from tests.support import saturated as ts  # noqa: E402
+from geompm.testing.verification import saturated_columns as ts
 
 SIZES = (0.1, 0.05, 0.025)
 

@@ -3,7 +3,7 @@ several cell sizes, with the softening regularised by the cell size and without.
 
     python benchmarks/slope_stability/biaxial.py OUT_FOLDER [h ...] > biaxial.txt
 
-Case: tests/support/slopes.biaxial_case (a 1 m x 2 m sample, c softening from 100 to 50 kPa, phi = 0, a weak
+Case: geompm/testing/verification/slopes.biaxial_case (a 1 m x 2 m sample, c softening from 100 to 50 kPa, phi = 0, a weak
 corner, a smooth platen at 0.02 m/s).  Printed: the peak force [N/m] and the force at platen displacements
 of 10 to 30 mm, and each curve's largest difference from the finest one's over 12-30 mm, relative to the
 finest one's force there.
@@ -17,10 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
-from tests.support.slopes import biaxial_case  # noqa: E402
+from geompm.testing.verification.slopes import biaxial_case
 
-import geompm  # noqa: E402
+import geompm
 
 SPEED = 0.02
 AT = np.array([0.010, 0.012, 0.016, 0.020, 0.025, 0.030])

@@ -3,9 +3,9 @@
 
     python benchmarks/slope_stability/finite_slope.py --cohesion 5000 --friction 30 [--cell-sizes 1 0.5 0.25] [--work DIR]
 
-Prints Bishop's factor and critical circle (tests/support/bishop.py, the search of
+Prints Bishop's factor and critical circle (geompm/testing/verification/bishop.py, the search of
 tests/verification/test_finite_slopes.py), then runs `geompm stability` with its defaults on
-tests/support/slopes.griffiths_lane_case at each cell size and prints its factor, bracket, the error against
+geompm/testing/verification/slopes.griffiths_lane_case at each cell size and prints its factor, bracket, the error against
 Bishop, the number of trials and of steps.
 """
 
@@ -18,12 +18,10 @@ import sys
 import tempfile
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT))
-import numpy as np  # noqa: E402
+import numpy as np
 
-from tests.support.bishop import critical_circle, surface_from_points  # noqa: E402
-from tests.support.slopes import griffiths_lane_case  # noqa: E402
+from geompm.testing.verification.bishop import critical_circle, surface_from_points
+from geompm.testing.verification.slopes import griffiths_lane_case
 
 
 def bishop(c: float, phi: float):

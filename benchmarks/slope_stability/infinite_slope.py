@@ -1,4 +1,4 @@
-"""The infinite-slope case of docs/slope-stability.md (tests/support/slopes.py), written to a file.
+"""The infinite-slope case of docs/slope-stability.md (geompm/testing/verification/slopes.py), written to a file.
 
     python benchmarks/slope_stability/infinite_slope.py OUT.json --cell-size 0.05 [--cohesion 2000] [--dilation 30]
 """
@@ -7,11 +7,8 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
-from tests.support.slopes import infinite_slope_case, limit_equilibrium  # noqa: E402
+from geompm.testing.verification.slopes import infinite_slope_case, limit_equilibrium
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser()

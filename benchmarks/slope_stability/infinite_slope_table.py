@@ -3,7 +3,7 @@ closed forms, and the factor's sensitivity to the trials' local damping and to t
 
     python benchmarks/slope_stability/infinite_slope_table.py OUT_FOLDER [main|sensitivity] > table.txt
 
-Cases (tests/support/slopes.py): beta = 20 deg, phi = 30 deg, 1 m deep, gamma = 2000 x 9.81 N/m3.
+Cases (geompm/testing/verification/slopes.py): beta = 20 deg, phi = 30 deg, 1 m deep, gamma = 2000 x 9.81 N/m3.
   associated (psi = phi), c = 0:        F = tan(phi) / tan(beta) = 1.5863
   associated, c = 2 kPa:                F = c / (gamma z cos^2 beta tan beta) + tan(phi) / tan(beta) = 1.9035
   psi = 0, c = 0 (Mohr-Coulomb):        Davis (1968): the slip plane carries tan(phi*) = sin(phi) cos(psi) /
@@ -20,8 +20,7 @@ import sys
 import time
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
-from tests.support.slopes import infinite_slope_case, limit_equilibrium  # noqa: E402
+from geompm.testing.verification.slopes import infinite_slope_case, limit_equilibrium
 
 
 def davis(beta=20.0, phi=30.0):

@@ -1,16 +1,13 @@
-"""The loaded confined column (tests/support/loaded_column.py) at h = 0.1, 0.05, 0.025 m: errors against
+"""The loaded confined column (geompm/testing/verification/loaded_column.py) at h = 0.1, 0.05, 0.025 m: errors against
 u_y = -q y / M and sigma_yy = -q, with the observed orders between successive cell sizes.
 
     python benchmarks/surface_load/column.py > benchmarks/results/<date>-surface-load-column.txt
 """
 
 import math
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
-from tests.support.loaded_column import E, NU, Q, H, M, run_column  # noqa: E402
+from geompm.testing.verification.loaded_column import E, NU, Q, H, M, run_column
 
 
 def main():

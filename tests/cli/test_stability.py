@@ -1,7 +1,7 @@
 """geompm stability end to end on a small infinite slope: the JSON it prints, the files it writes, what
 `geompm info` says of the folder, a slope that fails as it stands, and the refusals.
 
-The slope (tests/support/slopes.py) is cohesionless with phi = 30 deg on beta = 20 deg, associated, so its
+The slope (geompm/testing/verification/slopes.py) is cohesionless with phi = 30 deg on beta = 20 deg, associated, so its
 limit-equilibrium factor of safety is tan(phi) / tan(beta) = 1.586 (Taylor 1948); at h = 0.2 m and a
 tolerance of 0.1 the search must bracket it within that tolerance plus the coarse grid's few per cent."""
 
@@ -12,7 +12,7 @@ import json
 import pytest
 
 from geompm.cli import main
-from tests.support.slopes import infinite_slope_case, limit_equilibrium
+from geompm.testing.verification.slopes import infinite_slope_case, limit_equilibrium
 
 pytestmark = pytest.mark.slow
 

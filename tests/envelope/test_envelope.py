@@ -1,6 +1,6 @@
 """The numerical envelope: small scenes at the extremes of each parameter (docs/numerical-envelope.md).
 
-Each case asserts a stable run by harness.py's definition (no NaN or Inf,
+Each case asserts a stable run by the harness's definition (geompm/testing/verification/envelope.py) (no NaN or Inf,
 kinetic energy never above E_k(0) + U_0 + W_g within 5%, every particle
 inside the grid) or a refusal before the run.  The base scene is the source
 study's soil column (section 3.2: rho 2650 kg/m3, E 0.84 MPa, nu 0.3,
@@ -15,69 +15,7 @@ from geompm.api import scene_from_dict
 from geompm.cli import main
 from geompm.errors import CaseError
 
-from .harness import column, run
-
-ELASTIC_DROP = {  # an elastic block dropped 4 cm onto the floor: it bounces, and nothing dissipates energy
-    "materials.soil": {"model": "linear_elastic", "density": 2650.0, "youngs_modulus": 1e6, "poisson_ratio": 0.3},
-    "bodies.0.initial_stress": "none", "bodies.0.geometry": {"type": "box", "min": [0.2, 0.04], "max": [0.4, 0.14]},
-    "time.end": 1.0}
-WATER = {"materials.soil": {"model": "newtonian", "density": 1000.0, "viscosity": 1e-6, "sound_speed": 20.0},
-         "bodies.0.initial_stress": "none"}
-IMPACT = {"bodies.0.velocity": [50.0, 0.0], "bodies.0.initial_stress": "none",
-          "bodies.0.geometry": {"type": "box", "min": [0.2, 0.0], "max": [0.3, 0.1]},
-          "time.end": 0.03, "grid.extent": [0.6, 1.0]}  # the elastic rebound splashes up to ~0.7 m by 0.03 s
-
-SOIL = [  # (label, overrides): end times keep each run to a few thousand steps
-    ("E = 1e3 Pa", {"materials.soil.youngs_modulus": 1e3}),
-    ("E = 1e5 Pa", {"materials.soil.youngs_modulus": 1e5}),
-    ("E = 1e8 Pa", {"materials.soil.youngs_modulus": 1e8, "time.end": 0.05}),
-    ("E = 1e10 Pa", {"materials.soil.youngs_modulus": 1e10, "time.end": 0.005}),
-    ("nu = 0", {"materials.soil.poisson_ratio": 0.0}),
-    ("nu = 0.45", {"materials.soil.poisson_ratio": 0.45}),
-    ("nu = 0.499", {"materials.soil.poisson_ratio": 0.499, "time.end": 0.1}),
-    ("phi = 0", {"materials.soil.friction_angle": 0.0}),
-    ("phi = 15", {"materials.soil.friction_angle": 15.0}),
-    ("phi = 45", {"materials.soil.friction_angle": 45.0}),
-    ("phi = 60", {"materials.soil.friction_angle": 60.0}),
-    ("c = 1 MPa", {"materials.soil.cohesion": 1e6}),
-    ("1 particle per cell", {"bodies.0.particles_per_cell": 1}),
-    ("4x4 particles per cell", {"bodies.0.particles_per_cell": 4}),
-    ("cfl = 0.1", {"time.cfl": 0.1, "time.end": 0.1}),
-    ("cfl = 0.8", {"time.cfl": 0.8}),
-    ("water, mu = 1e-6 Pa s", WATER),
-    ("water, mu = 1e-6 Pa s, cfl = 0.6", {**WATER, "time.cfl": 0.6}),
-    ("elastic drop, cfl = 0.8, 1 s", {**ELASTIC_DROP, "time.cfl": 0.8}),
-    ("elastic drop, nu = 0.499", {**ELASTIC_DROP, "materials.soil.poisson_ratio": 0.499, "time.end": 0.2}),
-    ("impact at 50 m/s", IMPACT),
-    ("impact at 50 m/s, cfl = 0.8", {**IMPACT, "time.cfl": 0.8}),
-    ("Cross, mu_0 = 1e4 mu_inf", {"materials.soil": {"model": "cross", "density": 2650.0, "sound_speed": 20.0,
-                                                    "from_bingham": {"viscosity": 1.2, "yield_stress": 200.0}},
-                                  "bodies.0.initial_stress": "none", "time.end": 0.01}),
-]
-
-
-def evp(model: str, **law) -> dict:
-    """The column as a yield-stress fluid (rho0 2650 kg/m3, c 20 m/s) under the elasto-viscoplastic
-    integration, G = rho0 c^2 / 4 = 265 kPa, over the whole collapse (0.3 s)."""
-    mat = {"model": model, "density": 2650.0, "sound_speed": 20.0, "integration": "elastoviscoplastic", **law}
-    return {"materials.soil": mat, "bodies.0.initial_stress": "none"}
-
-
-def cross_ratio(ratio: float) -> dict:
-    """Cross with mu_inf = 1.2 Pa s, mu_0 = ratio mu_inf, A = mu_0 / tau_B (tau_B = 200 Pa), m = 1."""
-    return evp("cross", viscosity_infinity=1.2, viscosity_zero=1.2 * ratio, time_constant=1.2 * ratio / 200.0)
-
-
-SOIL += [(f"Cross EVP, mu_0 = 1e{k} mu_inf", cross_ratio(10.0 ** k)) for k in range(2, 7)]
-SOIL += [
-    ("Bingham EVP, tau_B = 200 Pa", evp("bingham", viscosity=1.2, yield_stress=200.0)),
-    ("Bingham EVP, tau_B = 1e5 Pa (stands)", evp("bingham", viscosity=1.2, yield_stress=1e5)),
-    ("Herschel-Bulkley EVP, n = 0.5", evp("herschel_bulkley", consistency=5.0, flow_index=0.5, yield_stress=200.0,
-                                          max_viscosity=1e4)),
-    ("Herschel-Bulkley EVP, n = 1.5", evp("herschel_bulkley", consistency=5.0, flow_index=1.5, yield_stress=200.0,
-                                          max_viscosity=1e4)),
-]
-
+from geompm.testing.verification.envelope import ELASTIC_DROP, IMPACT, SOIL, column, run
 
 @pytest.mark.parametrize("label, over", SOIL, ids=[s[0] for s in SOIL])
 def test_stable_at_the_extremes(label, over):
@@ -132,7 +70,7 @@ def test_cross_source_viscosity_reports_time_step_and_remedy(tmp_path, capsys):
     a measured run time and the remedies, and still exits 0 (the run is valid, only slow)."""
     import json
 
-    from .harness import ROOT
+    from tests.support.cases import ROOT
 
     case = json.loads((ROOT / "cases" / "column_collapse_cross.json").read_text())
     path = tmp_path / "cross.json"
@@ -150,7 +88,7 @@ def test_validate_names_the_limit_and_what_the_other_integration_would_take(tmp_
     viscous limit 5.52e-6 s, 31.4x shorter.  For the explicit case the first remedy is the reverse."""
     import json
 
-    from .harness import ROOT
+    from tests.support.cases import ROOT
 
     case = json.loads((ROOT / "cases" / "column_collapse_cross.json").read_text())
     case["materials"]["soil"]["integration"] = "elastoviscoplastic"

@@ -9,8 +9,8 @@ import json
 
 import pytest
 
-from tests.mpi.test_same_answers import BOUND
-from tests.support import mpi
+from geompm.testing.verification.mpi_scenes import BOUND
+from geompm.testing.verification import mpi_runs as mpi
 
 #: a Drucker-Prager block thrown along a friction floor against a slip wall: 352 particles
 CASE = {"name": "cuda_ranks", "dimension": 2,

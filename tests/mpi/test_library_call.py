@@ -9,8 +9,8 @@ import os
 import subprocess
 import sys
 
-from tests.mpi.test_same_answers import BOUND, SCENES
-from tests.support import mpi
+from geompm.testing.verification.mpi_scenes import BOUND, SCENES
+from geompm.testing.verification import mpi_runs as mpi
 
 SCRIPT = """
 import sys

@@ -3,7 +3,7 @@ rank before any folder is made, naming the split axis and the largest rank count
 
 from __future__ import annotations
 
-from tests.support import mpi
+from geompm.testing.verification import mpi_runs as mpi
 from tests.support.cases import tiny_case
 
 

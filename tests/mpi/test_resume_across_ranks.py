@@ -16,14 +16,14 @@ import shutil
 
 import pytest
 
-from tests.mpi.test_same_answers import BOUND, _case
-from tests.support import mpi
+from geompm.testing.verification.mpi_scenes import BOUND, shipped
+from geompm.testing.verification import mpi_runs as mpi
 
 T1, T2 = 0.005, 0.0086
 
 
 def test_checkpoint_on_two_ranks_resumes_on_three_and_on_one(tmp_path):
-    case = _case("dam_break", **{"time.end": T2, "solver.rebalance_interval": 10})
+    case = shipped("dam_break", **{"time.end": T2, "solver.rebalance_interval": 10})
     assert mpi.run(case, tmp_path / "whole", 1).returncode == 0
     first = dict(case, time=dict(case["time"], end=T1))
     done = mpi.run(first, tmp_path / "two", 2)
@@ -47,7 +47,7 @@ def test_slabs_rebalance_as_the_column_spreads(tmp_path):
     """With solver.rebalance_interval = 20 the cuts follow the spreading water: on 3 ranks they move from
     cells 7 and 14 (a third of the column each) as the surge runs out over the first 0.1 s (about 2500
     steps), each slab keeps at least 4 cells, and the answers still match one process to 1e-10."""
-    case = _case("dam_break", **{"time.end": 0.1, "solver.rebalance_interval": 20})
+    case = shipped("dam_break", **{"time.end": 0.1, "solver.rebalance_interval": 20})
     assert mpi.run(case, tmp_path / "one", 1).returncode == 0
     done = mpi.run(case, tmp_path / "three", 3)
     assert done.returncode == 0, done.stdout + done.stderr
@@ -68,7 +68,7 @@ def test_ctrl_c_to_mpiexec_stops_every_rank_after_one_checkpoint(tmp_path):
     import sys
     import time
 
-    case = _case("dam_break", **{"time.end": 0.25})
+    case = shipped("dam_break", **{"time.end": 0.25})
     (tmp_path / "case.json").write_text(json.dumps(case))
     run = tmp_path / "run"
     cmd = [str(mpi.mpiexec()), "-n", "2", sys.executable, "-m", "geompm.cli", "run", str(tmp_path / "case.json"),

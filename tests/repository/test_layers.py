@@ -88,3 +88,20 @@ def test_assembling_a_scene_compiles_no_law(monkeypatch):
                                  "poisson_ratio": 0.3, "friction_angle": 30.0}
     scene = scene_from_dict(case)
     assert scene.state.n > 0
+
+
+def test_benchmarks_stand_on_the_package_not_on_the_tests():
+    """No benchmark script imports tests/ (nor puts the repository on sys.path to do so): the harnesses they
+    share with the tests live in geompm.testing.verification."""
+    import ast
+
+    root = PACKAGE.parent
+    found = []
+    for path in sorted((root / "benchmarks").rglob("*.py")):
+        if "results" in path.parts:
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            names = [a.name for a in node.names] if isinstance(node, ast.Import) else \
+                [node.module or ""] if isinstance(node, ast.ImportFrom) else []
+            found += [f"{path.relative_to(root)}: {n}" for n in names if n == "tests" or n.startswith("tests.")]
+    assert not found, found

@@ -1,4 +1,4 @@
-"""The limit-equilibrium reference of the stability tests (tests/support/bishop.py), against published values.
+"""The limit-equilibrium reference of the stability tests (geompm/testing/verification/bishop.py), against published values.
 
 - A vertical cut in undrained clay (phi = 0): the critical circle through the toe gives H_c = 3.83 c / gamma,
   Taylor's stability number c / (F gamma H) = 0.261 (Taylor 1948, Fundamentals of Soil Mechanics, ch. 16).
@@ -12,7 +12,7 @@
 import numpy as np
 import pytest
 
-from tests.support.bishop import critical_circle, surface_from_points
+from geompm.testing.verification.bishop import critical_circle, surface_from_points
 
 TWO_TO_ONE = ([-100.0, 0.0, 20.0, 200.0], [10.0, 10.0, 0.0, 0.0])  # H = 10 m, crest at x = 0, toe at x = 20 m
 GRID = ((np.linspace(-10, 30, 11), np.linspace(5, 40, 11)), np.linspace(5, 50, 16))

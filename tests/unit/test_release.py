@@ -17,7 +17,7 @@ import pytest
 from geompm.api import scene_from_dict
 from geompm.errors import CaseError
 
-from tests.support.dem import write_dem
+from geompm.testing.verification.dem import write_dem
 
 rasterio = pytest.importorskip("rasterio")
 TAN = math.tan(math.radians(30.0))

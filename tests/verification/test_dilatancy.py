@@ -25,7 +25,7 @@ from geompm.materials.linear_elastic import LinearElastic
 from geompm.materials.mohr_coulomb import MohrCoulomb
 from geompm.materials.plasticity import ELASTIC
 from tests.envelope.biaxial import dilation_rate
-from tests.envelope.harness import ROOT
+from tests.support.cases import ROOT
 
 
 @pytest.mark.parametrize("law", [LinearElastic, DruckerPrager, MohrCoulomb])

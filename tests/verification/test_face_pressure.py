@@ -170,9 +170,9 @@ def test_terrain_faces_carry_the_block(tmp_path):
     (every face with more than 1 % of the peak is within 0.3 m of the particles' path, the block's
     diagonal)."""
     pytest.importorskip("rasterio")
-    from .test_terrain import _block_case
+    from geompm.testing.verification.terrain_block import block_case
 
-    case, _, _ = _block_case(tmp_path, 30.0, 37.0, 0.3, "terrain")
+    case, _, _ = block_case(tmp_path, 30.0, 37.0, 0.3, "terrain")
     case["outputs"] = SURFACES
     sim = Simulation(scene_from_dict(case, base_dir=tmp_path))
     ground = sim.scene.obstacles[0]

@@ -1,10 +1,10 @@
 """Factor of safety of finite slopes by strength reduction against Bishop's simplified method.
 
 The geometry of Griffiths & Lane's (1999, Geotechnique 49(3):387) first example: a 2:1 slope 10 m high on a
-rough rigid base at the toe's level (tests/support/slopes.griffiths_lane_case, drucker_prager with its
+rough rigid base at the toe's level (geompm/testing/verification/slopes.griffiths_lane_case, drucker_prager with its
 plane-strain cone, psi = 0, gamma = 20 kN/m3), with their soil (c' = 10 kPa, phi' = 20 deg) and an
 undrained one (c_u = 50 kPa, phi = 0).  The reference is Bishop's simplified method over circles
-(tests/support/bishop.py, checked in tests/unit/test_bishop.py): 1.378 and 2.022.
+(geompm/testing/verification/bishop.py, checked in tests/unit/test_bishop.py): 1.378 and 2.022.
 
 A third soil, c' = 5 kPa and phi' = 30 deg (Bishop 1.606), is tested at h = 0.25 m, where its search gave +0.63 %
 (at 0.5 m, +4.67 %, too close to the 5 % edge for a test).
@@ -23,8 +23,8 @@ import geompm
 from geompm.schema.load import parse_case
 from geompm.stability import criterion
 from geompm.stability.trial import trial_damping, trial_sets
-from tests.support.bishop import critical_circle, surface_from_points
-from tests.support.slopes import griffiths_lane_case
+from geompm.testing.verification.bishop import critical_circle, surface_from_points
+from geompm.testing.verification.slopes import griffiths_lane_case
 
 pytestmark = pytest.mark.slow
 H = 0.5

@@ -18,9 +18,9 @@ import pytest
 
 from geompm.cli import main
 
-from tests.support.dem import write_dem
+from geompm.testing.verification.dem import write_dem
 
-from .test_terrain import _block_case
+from geompm.testing.verification.terrain_block import block_case
 
 rasterio = pytest.importorskip("rasterio")
 EAST, NORTH = 2_600_000.0, 1_200_000.0  # a Swiss LV95 site
@@ -28,7 +28,7 @@ EAST, NORTH = 2_600_000.0, 1_200_000.0  # a Swiss LV95 site
 
 def _site_case(tmp_path):
     """The 30 deg DEM incline of test_terrain, moved to map coordinates (E, N) = (2.6e6, 1.2e6) m."""
-    case, down, height = _block_case(tmp_path, 30.0, 0.0, 0.3, "terrain")
+    case, down, height = block_case(tmp_path, 30.0, 0.0, 0.3, "terrain")
     write_dem(tmp_path / "site.tif", lambda x, y: height(x - EAST, y - NORTH), EAST - 0.2, NORTH - 0.2, 44, 44, 0.05)
     case["grid"]["origin"] = [EAST, NORTH, 0.0]
     case["obstacles"][0]["dem"] = "site.tif"
@@ -87,7 +87,7 @@ def test_hazard_maps_of_a_sliding_block(tmp_path, capsys):
     # VTU points are the map coordinates: the same case in local coordinates (origin 0) gives the same
     # particles shifted by (E, N), to 1e-6 m, at t = 0 and after 0.3 s of sliding
     (tmp_path / "local").mkdir()
-    local_case, _, _ = _block_case(tmp_path / "local", 30.0, 0.0, 0.3, "terrain")
+    local_case, _, _ = block_case(tmp_path / "local", 30.0, 0.0, 0.3, "terrain")
     local_case["time"]["end"] = 0.3
     local_case["outputs"] = [{"writer": "vtu", "interval": 0.3}]
     (tmp_path / "local" / "local.json").write_text(json.dumps(local_case))
@@ -138,7 +138,7 @@ def test_hazard_maps_without_a_raster_are_refused_before_the_run(tmp_path):
     from geompm.api import scene_from_dict
     from geompm.errors import CaseError
 
-    case, _, _ = _block_case(tmp_path, 30.0, 0.0, 0.3, "plane")
+    case, _, _ = block_case(tmp_path, 30.0, 0.0, 0.3, "plane")
     case["outputs"] = [{"writer": "hazard_maps"}]
     with pytest.raises(CaseError, match=r"outputs\.0\.dem.*terrain obstacle"):
         scene_from_dict(case, base_dir=tmp_path)
@@ -150,7 +150,7 @@ def test_basal_pore_pressure_ratio_map_of_a_saturated_block(tmp_path):
     pore_pressure_ratio_max equals the hydrostatic basal ratio rho_w (D - s/2) / (rho_sat D) = 0.4606
     (D = 0.15 m thick, its lowest particles s/2 = 0.0125 m above the base) within 3 %. A ratio over the solids'
     weight only would give 0.77, one without the water's pressure 0 (docs/pore-water.md)."""
-    case, _, _ = _block_case(tmp_path, 0.0, 0.0, 0.3, "terrain")
+    case, _, _ = block_case(tmp_path, 0.0, 0.0, 0.3, "terrain")
     case["materials"]["block"]["density"] = 2650.0
     case["materials"]["block"]["pore_water"] = {"porosity": 0.4, "hydraulic_conductivity": 1e-6,
                                                 "fluid": {"bulk_modulus": 2.0e7}}

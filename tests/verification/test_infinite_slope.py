@@ -1,6 +1,6 @@
 """Factor of safety of an infinite slope by strength reduction, at three cell sizes, against the closed form.
 
-A periodic strip 1 m deep on a fixed base with gravity tilted by beta = 20 deg (tests/support/slopes.py),
+A periodic strip 1 m deep on a fixed base with gravity tilted by beta = 20 deg (geompm/testing/verification/slopes.py),
 phi = 30 deg, associated flow (psi = phi, so the slip plane carries tan(phi): Davis 1968), gamma =
 2000 x 9.81 N/m3.  Limit equilibrium of the slope-parallel plane at the base (Taylor 1948, ch. 16):
 
@@ -20,7 +20,7 @@ import geompm
 from geompm.schema.load import parse_case
 from geompm.stability import criterion
 from geompm.stability.trial import trial_damping, trial_sets
-from tests.support.slopes import infinite_slope_case, limit_equilibrium
+from geompm.testing.verification.slopes import infinite_slope_case, limit_equilibrium
 
 pytestmark = pytest.mark.slow
 

@@ -7,7 +7,7 @@ The tests assert the two coarser grids of the three in docs/pore-water.md.
 """
 
 
-from tests.support.saturated import (hydrostatic_column, isotropic_undrained, run_terzaghi, seepage_column,
+from geompm.testing.verification.saturated_columns import (hydrostatic_column, isotropic_undrained, run_terzaghi, seepage_column,
                                      undrained_column, undrained_wave_speed)
 
 

@@ -28,7 +28,7 @@ from geompm.api import scene_from_dict
 from geompm.engine.scheduler import Simulation
 from geompm.errors import CaseError
 
-from tests.support.loaded_column import H, Q, W, column_case, run_column
+from geompm.testing.verification.loaded_column import H, Q, W, column_case, run_column
 
 
 def test_confined_column_settles_by_q_h_over_m():

@@ -19,10 +19,10 @@ import numpy as np
 import pytest
 
 from geompm.api import scene_from_dict
-from geompm.engine.scheduler import Simulation
 from geompm.errors import CaseError
 
-from tests.support.dem import write_dem
+from geompm.testing.verification.dem import write_dem
+from geompm.testing.verification.terrain_block import block_case, slide
 
 rasterio = pytest.importorskip("rasterio")
 G = 9.81
@@ -67,71 +67,12 @@ def test_signed_distance_to_a_paraboloid_is_within_five_hundredths_of_a_cell(tmp
     assert errors.max() < 0.05 * h, f"largest error {errors.max() / h:.3f} h"
 
 
-def _block_case(tmp_path, theta_deg, turn_deg, mu, floor):
-    """A 3D elastic block on a 30 deg slope descending along direction (cos turn, sin turn); floor is
-    'terrain' (a DEM of the slope) or 'plane' (the analytic plane)."""
-    import trimesh
-
-    th, turn = math.radians(theta_deg), math.radians(turn_deg)
-    down = np.array([math.cos(turn) * math.cos(th), math.sin(turn) * math.cos(th), -math.sin(th)])  # along slope
-    normal = np.array([math.cos(turn) * math.sin(th), math.sin(turn) * math.sin(th), math.cos(th)])
-    centre_ground = np.array([0.9, 0.9, 1.2])  # a point on the slope
-    tan = math.tan(th)
-
-    def height(x, y):
-        return centre_ground[2] - tan * ((x - centre_ground[0]) * math.cos(turn) + (y - centre_ground[1]) * math.sin(turn))
-
-    side = np.cross(normal, down)
-    size = np.array([0.3, 0.3, 0.15])  # along the slope, across, normal
-    rot = np.eye(4)
-    rot[:3, :3] = np.stack([down, side, normal], axis=1)
-    block = trimesh.creation.box(extents=size)
-    block.apply_transform(rot)
-    start = centre_ground - 0.35 * down + (size[2] / 2 + 0.001) * normal  # just above the ground
-    block.apply_translation(start)
-    block.export(tmp_path / "block.stl")
-    case = {
-        "name": "dem_incline", "dimension": 3,
-        "grid": {"origin": [0.0, 0.0, 0.0], "extent": [1.8, 1.8, 2.2], "cell_size": 0.05},
-        "time": {"end": 0.5, "cfl": 0.4}, "gravity": [0.0, 0.0, -G],
-        "materials": {"block": {"model": "linear_elastic", "density": 1000.0, "youngs_modulus": 1.0e7,
-                                "poisson_ratio": 0.2}},
-        "bodies": [{"material": "block", "geometry": {"type": "stl", "file": "block.stl"}, "particles_per_cell": 2}],
-    }
-    if floor == "terrain":
-        write_dem(tmp_path / "slope.tif", height, -0.2, -0.2, 44, 44, 0.05)
-        case["obstacles"] = [{"type": "terrain", "name": "ground", "dem": "slope.tif", "condition": "friction",
-                              "friction": mu}]
-    else:
-        case["boundaries"] = [{"type": "plane", "point": list(centre_ground), "normal": list(normal),
-                               "condition": "friction", "friction": mu}]
-    return case, down, height
-
-
-def _slide(tmp_path, turn, floor, mu=0.3, theta=30.0, end=0.4):
-    case, down, height = _block_case(tmp_path, theta, turn, mu, floor)
-    sim = Simulation(scene_from_dict(case, base_dir=tmp_path))
-    st = sim.state
-    x_start = st.p_x.copy()
-    lowest = np.inf
-    fn = []  # the terrain's normal force once the block has landed [N], with each step's dt
-    while sim.time < end - 1e-12:
-        sim.step(min(sim.stable_dt(), end - sim.time))
-        gap = st.p_x[:, 2] - height(st.p_x[:, 0], st.p_x[:, 1])
-        lowest = min(lowest, float(gap.min()))
-        if floor == "terrain" and sim.time > 0.1:
-            fn.append((sim.scene.obstacles[0].fn, sim.dt))
-    s = float(((st.p_x - x_start) @ down).mean())
-    mean_fn = sum(f * dt for f, dt in fn) / sum(dt for _, dt in fn) if fn else None
-    return s, sim, lowest, mean_fn
-
-
 @pytest.mark.parametrize("turn", [0.0, 37.0])
 def test_block_on_a_dem_incline_slides_as_on_the_plane_and_the_closed_form(tmp_path, turn):
     th, mu, end = math.radians(30.0), 0.3, 0.4
     exact = G * (math.sin(th) - mu * math.cos(th)) * end ** 2 / 2
-    s_dem, sim, lowest, fn = _slide(tmp_path, turn, "terrain", mu=mu, end=end)
-    s_plane, _, _, _ = _slide(tmp_path, turn, "plane", mu=mu, end=end)
+    s_dem, sim, lowest, fn = slide(tmp_path, turn, "terrain", mu=mu, end=end)
+    s_plane, _, _, _ = slide(tmp_path, turn, "plane", mu=mu, end=end)
     assert s_dem == pytest.approx(exact, rel=0.03), f"terrain {s_dem:.4f} m, exact {exact:.4f} m"
     assert s_dem == pytest.approx(s_plane, rel=0.03), f"terrain {s_dem:.4f} m, plane {s_plane:.4f} m"
     assert lowest > -0.25 * 0.05  # the contact guarantee: no particle deeper than h / 4
@@ -141,7 +82,7 @@ def test_block_on_a_dem_incline_slides_as_on_the_plane_and_the_closed_form(tmp_p
 
 
 def test_dem_problems_are_refused_with_the_json_path(tmp_path):
-    case, _, height = _block_case(tmp_path, 30.0, 0.0, 0.3, "terrain")
+    case, _, height = block_case(tmp_path, 30.0, 0.0, 0.3, "terrain")
     case["obstacles"][0]["dem"] = "missing.tif"
     with pytest.raises(CaseError, match=r"obstacles\.0\.dem.*not found"):
         scene_from_dict(case, base_dir=tmp_path)
@@ -153,7 +94,7 @@ def test_dem_problems_are_refused_with_the_json_path(tmp_path):
     case["obstacles"][0]["dem"] = "small.tif"
     with pytest.raises(CaseError, match=r"obstacles\.0\.dem.*(does not reach|pixels cover)"):
         scene_from_dict(case, base_dir=tmp_path)
-    case["obstacles"][0]["dem"] = "slope.tif"  # written by _block_case, in EPSG:2056
+    case["obstacles"][0]["dem"] = "slope.tif"  # written by block_case, in EPSG:2056
     case["crs"] = "EPSG:32632"  # UTM 32N
     with pytest.raises(CaseError, match=r"obstacles\.0\.dem.*EPSG:2056.*EPSG:32632.*gdalwarp"):
         scene_from_dict(case, base_dir=tmp_path)

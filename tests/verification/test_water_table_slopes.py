@@ -1,6 +1,6 @@
 """Infinite slopes under a water table (triggers.water_table), at three cell sizes, against limit equilibrium.
 
-The periodic strip of tests/support/slopes.py (1 m deep on a fixed base, gravity tilted by beta = 20 deg,
+The periodic strip of geompm/testing/verification/slopes.py (1 m deep on a fixed base, gravity tilted by beta = 20 deg,
 rho_sat = 2000 kg/m3, associated Drucker-Prager, c = 0) under a water table parallel to its surface, so the
 pore pressure is that of slope-parallel seepage, gamma_w z cos^2(beta) (rho_w = 1000 kg/m3).  Limit
 equilibrium of the base (Skempton & DeLory 1957; Duncan, Wright & Brandon 2014, Soil Strength and Slope
@@ -11,7 +11,7 @@ Stability, 2nd ed., sec. 6.2):
   issue's 3 %); the searches gave 1.1389 at all three (-1.2 %, docs/slope-stability.md);
 - the table rising through a slope of phi = 30 deg at 0.1 m/s: F(h_w) = (1 - rho_w h_w / (rho H)) tan(phi) /
   tan(beta) reaches 1 at h_w = 0.739 m.  The onset, the zero of the slide's speed extrapolated along its
-  linear growth (tests/support/slopes.onset_from_velocity), must put the table within 3 % of that height;
+  linear growth (geompm/testing/verification/slopes.onset_from_velocity), must put the table within 3 % of that height;
   measured -0.43 / -0.45 / +0.32 %.
 """
 
@@ -23,7 +23,7 @@ import geompm
 from geompm.schema.load import parse_case
 from geompm.stability import criterion
 from geompm.stability.trial import trial_damping, trial_sets
-from tests.support.slopes import (critical_table, onset_from_velocity, rising_table_case,
+from geompm.testing.verification.slopes import (critical_table, onset_from_velocity, rising_table_case,
                                   saturated_infinite_slope_case, saturated_limit_equilibrium)
 
 pytestmark = pytest.mark.slow

@@ -10,9 +10,9 @@ import numpy as np
 from geompm.api import scene_from_dict
 from geompm.engine.scheduler import Simulation
 
-from .cases import CASES
+from geompm.testing.verification.cases import shipped_case
 
-CASE = CASES / "loaded_column.json"
+CASE = shipped_case("loaded_column.json")
 _RAW = json.loads(CASE.read_text())
 _SOIL = _RAW["materials"]["soil"]
 E, NU, RHO = _SOIL["youngs_modulus"], _SOIL["poisson_ratio"], _SOIL["density"]  # [Pa], [-], [kg/m3]

@@ -14,7 +14,6 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
@@ -24,7 +23,6 @@ from geompm.engine.health import HealthCheck, health_sums, outside_grid
 from geompm.engine.scheduler import Simulation
 
 ALLOWANCE = 1.05
-ROOT = Path(__file__).resolve().parents[2]
 
 
 @dataclass
@@ -102,3 +100,66 @@ def run(case: dict, max_steps: int = 20000, cfl: float | None = None) -> Outcome
             break
     return Outcome(sim.step_count, dt_first, dt_min, ratio, finite, inside, float(ek) if finite else np.nan,
                    float(st.p_x[:, 0].max()), sim.time, rho_max)
+
+
+#: the envelope's scenes: (label, overrides of ``column()``), each run by tests/envelope/test_envelope.py
+ELASTIC_DROP = {  # an elastic block dropped 4 cm onto the floor: it bounces, and nothing dissipates energy
+    "materials.soil": {"model": "linear_elastic", "density": 2650.0, "youngs_modulus": 1e6, "poisson_ratio": 0.3},
+    "bodies.0.initial_stress": "none", "bodies.0.geometry": {"type": "box", "min": [0.2, 0.04], "max": [0.4, 0.14]},
+    "time.end": 1.0}
+WATER = {"materials.soil": {"model": "newtonian", "density": 1000.0, "viscosity": 1e-6, "sound_speed": 20.0},
+         "bodies.0.initial_stress": "none"}
+IMPACT = {"bodies.0.velocity": [50.0, 0.0], "bodies.0.initial_stress": "none",
+          "bodies.0.geometry": {"type": "box", "min": [0.2, 0.0], "max": [0.3, 0.1]},
+          "time.end": 0.03, "grid.extent": [0.6, 1.0]}  # the elastic rebound splashes up to ~0.7 m by 0.03 s
+
+SOIL = [  # (label, overrides): end times keep each run to a few thousand steps
+    ("E = 1e3 Pa", {"materials.soil.youngs_modulus": 1e3}),
+    ("E = 1e5 Pa", {"materials.soil.youngs_modulus": 1e5}),
+    ("E = 1e8 Pa", {"materials.soil.youngs_modulus": 1e8, "time.end": 0.05}),
+    ("E = 1e10 Pa", {"materials.soil.youngs_modulus": 1e10, "time.end": 0.005}),
+    ("nu = 0", {"materials.soil.poisson_ratio": 0.0}),
+    ("nu = 0.45", {"materials.soil.poisson_ratio": 0.45}),
+    ("nu = 0.499", {"materials.soil.poisson_ratio": 0.499, "time.end": 0.1}),
+    ("phi = 0", {"materials.soil.friction_angle": 0.0}),
+    ("phi = 15", {"materials.soil.friction_angle": 15.0}),
+    ("phi = 45", {"materials.soil.friction_angle": 45.0}),
+    ("phi = 60", {"materials.soil.friction_angle": 60.0}),
+    ("c = 1 MPa", {"materials.soil.cohesion": 1e6}),
+    ("1 particle per cell", {"bodies.0.particles_per_cell": 1}),
+    ("4x4 particles per cell", {"bodies.0.particles_per_cell": 4}),
+    ("cfl = 0.1", {"time.cfl": 0.1, "time.end": 0.1}),
+    ("cfl = 0.8", {"time.cfl": 0.8}),
+    ("water, mu = 1e-6 Pa s", WATER),
+    ("water, mu = 1e-6 Pa s, cfl = 0.6", {**WATER, "time.cfl": 0.6}),
+    ("elastic drop, cfl = 0.8, 1 s", {**ELASTIC_DROP, "time.cfl": 0.8}),
+    ("elastic drop, nu = 0.499", {**ELASTIC_DROP, "materials.soil.poisson_ratio": 0.499, "time.end": 0.2}),
+    ("impact at 50 m/s", IMPACT),
+    ("impact at 50 m/s, cfl = 0.8", {**IMPACT, "time.cfl": 0.8}),
+    ("Cross, mu_0 = 1e4 mu_inf", {"materials.soil": {"model": "cross", "density": 2650.0, "sound_speed": 20.0,
+                                                    "from_bingham": {"viscosity": 1.2, "yield_stress": 200.0}},
+                                  "bodies.0.initial_stress": "none", "time.end": 0.01}),
+]
+
+
+def evp(model: str, **law) -> dict:
+    """The column as a yield-stress fluid (rho0 2650 kg/m3, c 20 m/s) under the elasto-viscoplastic
+    integration, G = rho0 c^2 / 4 = 265 kPa, over the whole collapse (0.3 s)."""
+    mat = {"model": model, "density": 2650.0, "sound_speed": 20.0, "integration": "elastoviscoplastic", **law}
+    return {"materials.soil": mat, "bodies.0.initial_stress": "none"}
+
+
+def cross_ratio(ratio: float) -> dict:
+    """Cross with mu_inf = 1.2 Pa s, mu_0 = ratio mu_inf, A = mu_0 / tau_B (tau_B = 200 Pa), m = 1."""
+    return evp("cross", viscosity_infinity=1.2, viscosity_zero=1.2 * ratio, time_constant=1.2 * ratio / 200.0)
+
+
+SOIL += [(f"Cross EVP, mu_0 = 1e{k} mu_inf", cross_ratio(10.0 ** k)) for k in range(2, 7)]
+SOIL += [
+    ("Bingham EVP, tau_B = 200 Pa", evp("bingham", viscosity=1.2, yield_stress=200.0)),
+    ("Bingham EVP, tau_B = 1e5 Pa (stands)", evp("bingham", viscosity=1.2, yield_stress=1e5)),
+    ("Herschel-Bulkley EVP, n = 0.5", evp("herschel_bulkley", consistency=5.0, flow_index=0.5, yield_stress=200.0,
+                                          max_viscosity=1e4)),
+    ("Herschel-Bulkley EVP, n = 1.5", evp("herschel_bulkley", consistency=5.0, flow_index=1.5, yield_stress=200.0,
+                                          max_viscosity=1e4)),
+]

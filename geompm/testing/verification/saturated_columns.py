@@ -10,10 +10,10 @@ import numpy as np
 from geompm.api import scene_from_dict
 from geompm.engine.scheduler import Simulation
 
-from .cases import CASES
+from geompm.testing.verification.cases import shipped_case
 
 GAMMA_W = 1000.0 * 9.80665  # unit weight of water at standard gravity [N/m3] (schemes/saturated/setup.py)
-TERZAGHI = json.loads((CASES / "terzaghi_consolidation.json").read_text())
+TERZAGHI = json.loads((shipped_case("terzaghi_consolidation.json")).read_text())
 
 
 def run_to(sim, end):
