@@ -36,11 +36,11 @@ def phreatic_pressure(p_x, p_material, acts, normal, height, gradient, out):
 
 
 @njit(parallel=True, cache=True)
-def total_stress(p_stress, p_pore, p_vol, p_vol0, out):
-    """out = sigma' - (V0 / V) p I (Voigt, tension positive; p compression positive): the stress the grid
-    sees (module docstring)."""
+def total_stress(p_stress, p_table, p_vol, p_vol0, out):
+    """out = sigma' - (V0 / V) p I (Voigt, tension positive; p = p_table, the water table's pore pressure,
+    compression positive, not the saturated scheme's p_pore): the stress the grid sees (module docstring)."""
     for p in prange(p_stress.shape[0]):
-        pore = p_pore[p] * p_vol0[p] / p_vol[p]
+        pore = p_table[p] * p_vol0[p] / p_vol[p]
         for k in range(3):
             out[p, k] = p_stress[p, k] - pore
         for k in range(3, 6):
@@ -48,7 +48,7 @@ def total_stress(p_stress, p_pore, p_vol, p_vol0, out):
 
 
 @njit(parallel=True, cache=True)
-def pore_work(p_pore, p_vol, p_vol0, p_x, p_x0, normal, gradient):
+def pore_work(p_table, p_vol, p_vol0, p_x, p_x0, normal, gradient):
     """An upper bound of the work a water table has done on the soil [J]: sum p max(V - V0, 0) (the water
     that flows in at pressure p as the skeleton dilates) + sum rho_w (-g . n) V max((x - x0) . n, 0) (the
     uplift on a particle that rose); the run's health check adds it to the energy the run can supply."""
@@ -58,6 +58,6 @@ def pore_work(p_pore, p_vol, p_vol0, p_x, p_x0, normal, gradient):
         rise = 0.0
         for a in range(d):
             rise += (p_x[p, a] - p_x0[p, a]) * normal[a]
-        uplift = gradient * p_vol[p] * rise if (rise > 0.0 and p_pore[p] > 0.0) else 0.0
-        w += p_pore[p] * max(p_vol[p] - p_vol0[p], 0.0) + uplift
+        uplift = gradient * p_vol[p] * rise if (rise > 0.0 and p_table[p] > 0.0) else 0.0
+        w += p_table[p] * max(p_vol[p] - p_vol0[p], 0.0) + uplift
     return w

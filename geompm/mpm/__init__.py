@@ -1,3 +1,4 @@
 """The data of a Material Point Method run, independent of any machine: the particle state (``state.py``), the
-grid and its active window (``grid.py``), the memory a case needs (``memory.py``), a saturated soil's
-pore-water table (``pore_water.py``) and the pore pressure under a water table (``water_table.py``)."""
+grid and its active window (``grid.py``), the memory a case needs (``memory.py``) and the pore pressure under a
+water table (``water_table.py``).  A scheme's own particle fields (saturated soil's) are declared by the scheme
+(schemes/saturated/fields.py)."""
