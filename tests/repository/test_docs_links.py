@@ -45,7 +45,8 @@ def test_named_repository_paths_exist(page):
     placeholders like <name> are skipped), and no page names the project's shared/ folder."""
     text = page.read_text()
     missing = [p for p in TICKED.findall(text)
-               if not any(c in p for c in "*<>") and p.rstrip("/.") not in GENERATED and not (ROOT / p.rstrip("/.")).exists()]
+               if not any(c in p for c in "*<>") and p.rstrip("/.") not in GENERATED
+               and not (ROOT / p.rstrip("/.")).exists()]
     assert not missing, f"{page.relative_to(ROOT)} names missing paths {missing}"
     outside = re.findall(r"(?<![\w/])(?:\.\./)?shared/(?:design|refdata|hooks)\S*", text)
     assert not outside, f"{page.relative_to(ROOT)} points outside the repository: {outside}"
@@ -58,7 +59,8 @@ CODE_PATH = re.compile(r"(?<![\w./$-])((?:[A-Za-z_][\w-]*/)+[\w-]+\.(?:py|md|jso
 PACKAGE_PATH = re.compile(r"(?<![\w./$-])((?:%s)/[a-z_]+)(?![\w/.-])" % "|".join(
     p.name for p in (ROOT / "geompm").iterdir() if p.is_dir() and p.name != "__pycache__"))
 #: paths the sources write (a script's output folder, a test's own files), not references to the repository
-WRITTEN = ("OUT/", "maps/", "runs/", "mypkg/", "record/", "meshes/m.stl", "meshes/none.stl", "meshes/x.stl", "benchmarks/x.py", "tests/refdata/x.csv")
+WRITTEN = ("OUT/", "maps/", "runs/", "mypkg/", "record/", "meshes/m.stl", "meshes/none.stl", "meshes/x.stl",
+           "benchmarks/x.py", "tests/refdata/x.csv")
 SOURCES = sorted(p for top in ("geompm", "tests", "benchmarks", "plugins") for p in (ROOT / top).rglob("*.py")
                  if "__pycache__" not in p.parts)
 
@@ -103,7 +105,8 @@ def test_paths_named_in_prose_exist(page):
     repository or the package, and so does a module or folder of the package named without its suffix."""
     text = page.read_text()
     missing = [ref for ref in set(CODE_PATH.findall(text)) if not any(c in ref for c in "*<>{}")
-               and not ref.startswith(WRITTEN) and not any((b / ref).exists() for b in (ROOT, ROOT / "geompm", page.parent))]
+               and not ref.startswith(WRITTEN)
+               and not any((b / ref).exists() for b in (ROOT, ROOT / "geompm", page.parent))]
     missing += [ref for ref in set(PACKAGE_PATH.findall(text))
                 if not ((ROOT / "geompm" / ref).is_dir() or (ROOT / "geompm" / ref).with_suffix(".py").is_file())]
     assert not missing, f"{page.relative_to(ROOT)} names missing paths {sorted(missing)}"

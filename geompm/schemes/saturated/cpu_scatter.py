@@ -93,8 +93,8 @@ def water_p2g(tag, p_x, p_vw, p_Cw, affine, p_wmass, p_drag, p_vol, p_n, p_pore,
 
 @njit(parallel=True, cache=True)
 def smooth_scatter(tag, p_x, p_val, p_drained, p_vol, origin, h, kind, lo, nloc, c_grid, g_vp):
-    """The scatter of the smoothing S (kernels.smooth_node_one, smooth_gather_one): g_vp[i] = (sum N V, sum N V f) over the particles that
-    hold pressure (p_drained 0), summed over the private grids in chunk order.  On several ranks the
+    """The scatter of the smoothing S (kernels.smooth_node_one, smooth_gather_one): g_vp[i] =
+    (sum N V, sum N V f) over the particles that hold pressure (p_drained 0), summed over the private grids in chunk order.  On several ranks the
     neighbours' partial sums are added to g_vp before the gather (parallel/slabs.py)."""
     n = p_x.shape[0]
     d = p_x.shape[1]

@@ -175,8 +175,10 @@ def node_of(i, lo, nloc, d):
 @njit(cache=True)
 def mirrored(x0, x1, x2, walls, k):
     """(x0, x1, x2) reflected in wall k's plane, and the signed distance from the plane."""
-    dist = (x0 - walls[k, WALL.px]) * walls[k, WALL.nx] + (x1 - walls[k, WALL.py]) * walls[k, WALL.ny] + (x2 - walls[k, WALL.pz]) * walls[k, WALL.nz]
-    return x0 - 2.0 * dist * walls[k, WALL.nx], x1 - 2.0 * dist * walls[k, WALL.ny], x2 - 2.0 * dist * walls[k, WALL.nz], dist
+    dist = ((x0 - walls[k, WALL.px]) * walls[k, WALL.nx] + (x1 - walls[k, WALL.py]) * walls[k, WALL.ny]
+            + (x2 - walls[k, WALL.pz]) * walls[k, WALL.nz])
+    return (x0 - 2.0 * dist * walls[k, WALL.nx], x1 - 2.0 * dist * walls[k, WALL.ny],
+            x2 - 2.0 * dist * walls[k, WALL.nz], dist)
 
 
 @njit(cache=True)
@@ -258,7 +260,8 @@ def node_split_one(i, g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, walls, origin, 
     drained = False
     t0 = t1 = t2 = 0.0  # the part of w tangential to a drained wall
     for k in range(nw):
-        dist = (origin[0] + ix * h - walls[k, WALL.px]) * walls[k, WALL.nx] + (origin[1] + iy * h - walls[k, WALL.py]) * walls[k, WALL.ny]
+        dist = ((origin[0] + ix * h - walls[k, WALL.px]) * walls[k, WALL.nx]
+                + (origin[1] + iy * h - walls[k, WALL.py]) * walls[k, WALL.ny])
         if d == 3:
             dist += (origin[2] + iz * h - walls[k, WALL.pz]) * walls[k, WALL.nz]
         if dist <= walls[k, WALL.layer]:
@@ -268,7 +271,8 @@ def node_split_one(i, g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, walls, origin, 
                 drained = True
                 mw = g_w[i, NODE_WATER.mass]
                 old = g_rel0[i, 0] * walls[k, WALL.nx] + g_rel0[i, 1] * walls[k, WALL.ny]
-                push = (g_w[i, FORCE] + mw * gravity[0]) * walls[k, WALL.nx] + (g_w[i, FORCE + 1] + mw * gravity[1]) * walls[k, WALL.ny]
+                push = ((g_w[i, FORCE] + mw * gravity[0]) * walls[k, WALL.nx]
+                        + (g_w[i, FORCE + 1] + mw * gravity[1]) * walls[k, WALL.ny])
                 if d == 3:
                     old += g_rel0[i, 2] * walls[k, WALL.nz]
                     push += (g_w[i, FORCE + 2] + mw * gravity[2]) * walls[k, WALL.nz]
@@ -309,7 +313,8 @@ def node_split_one(i, g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, walls, origin, 
 @njit(cache=True, inline="always")
 def water_g2p_one(p, tag, p_x, p_vw, p_Cw, affine, apic_dinv, p_divw, p_divs, p_fill, g_vw, g_vs, g_fill, origin, h,
                   kind, lo, nloc):
-    """Particle p (``tag``: the stencil's S nodes per axis, kernels/stencil.py): the water's particle velocity, its affine matrix (with ``affine``: C_w = B_w D^-1 as the solid's
+    """Particle p (``tag``: the stencil's S nodes per axis, kernels/stencil.py): the water's particle
+    velocity, its affine matrix (with ``affine``: C_w = B_w D^-1 as the solid's
     APIC, B_w = sum N v_wI (x_I - x_p)^T, or the velocity gradient for linear hats, apic_dinv = 0), the
     divergences of the water's and the solid's velocities at the particle and the node fill interpolated
     (at the particles' positions before they move)."""
@@ -421,7 +426,8 @@ def smooth_node_one(i, g_vp, g_p):
 
 @njit(cache=True, inline="always")
 def smooth_gather_one(p, tag, p_x, p_drained, g_p, origin, h, kind, lo, nloc, p_out):
-    """p_out[p] = sum_I N_I g_p[I] (0 where particle p is drained): the gather of the smoothing S (after smooth_node_one)."""
+    """p_out[p] = sum_I N_I g_p[I] (0 where particle p is drained): the gather of the smoothing S (after
+    smooth_node_one)."""
     if p_drained[p] != 0.0:
         p_out[p] = 0.0
         return

@@ -1,12 +1,12 @@
-"""Saturated bodies at set-up (the saturated scheme's set-up hooks, schemes/saturated/scheme.py): the pore-water table of the materials, each particle's water and the
-initial pore pressure (docs/pore-water.md).
+"""Saturated bodies at set-up (the saturated scheme's set-up hooks, schemes/saturated/scheme.py): the
+pore-water table of the materials, each particle's water and the initial pore pressure (docs/pore-water.md).
 
-A material with ``pore_water`` has ``density`` = the grains' density rho_s; the law runs with the dry
-density (1 - n0) rho_s (``skeleton_params``), its particles carry the solids' mass (1 - n0) rho_s V0 and, below their body's water table, water of mass n0 rho_w V0 under the hydrostatic
-pressure p = rho_w |g| (z_wt - z) plus the body's uniform excess.  Particles above the table start dry.
-Geostatic stress is then effective stress: the overburden is weighed with each particle's solids and water
-less the water it displaces below the table (its buoyant weight), so sigma'_v = (1 - n)(rho_s - rho_w) g
-depth in a fully saturated layer.
+A material with ``pore_water`` has ``density`` = the grains' density rho_s; the law runs with the dry density
+(1 - n0) rho_s (``skeleton_params``), its particles carry the solids' mass (1 - n0) rho_s V0 and, below their
+body's water table, water of mass n0 rho_w V0 under the hydrostatic pressure p = rho_w |g| (z_wt - z) plus the
+body's uniform excess.  Particles above the table start dry.  Geostatic stress is then effective stress: the
+overburden is weighed with each particle's solids and water less the water it displaces below the table (its
+buoyant weight), so sigma'_v = (1 - n)(rho_s - rho_w) g depth in a fully saturated layer.
 """
 
 from __future__ import annotations
