@@ -13,6 +13,7 @@ block (speed_terms).
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 from numba import cuda, float64, int64
@@ -122,12 +123,7 @@ class SaturatedCuda(SaturatedPasses):
         return cuda.to_device(np.ascontiguousarray(array, dtype=np.float64))
 
     def particles(self):
-        class Device:
-            pass
-
-        P = Device()
-        P.__dict__.update(self.be._device())
-        return P
+        return SimpleNamespace(**self.be._device())
 
     def window_index(self, view):
         return cuda.to_device(view.lo), cuda.to_device(view.nloc)
