@@ -163,5 +163,6 @@ class SaturatedCuda(SaturatedPasses):
             n_min, rho_d, rho_sat, v2 = out.copy_to_host()
             rows[k] = (law_speeds[k], -n_min, rho_d, -rho_sat, math.sqrt(v2))
         rows = np.asarray(be.domain.comm.max(rows.ravel())).reshape(rows.shape)
-        c = speeds.combined_speeds(rows, pw)
+        c = speeds.combined_speeds(rows, pw, self.scene.material_names,
+                                   lambda k: speeds.out_of_range(self.scene, be.host_state(), pw, k))
         return max(c["undrained"], c["water"], c["skeleton"])

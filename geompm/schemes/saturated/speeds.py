@@ -21,6 +21,7 @@ import numpy as np
 from numba import njit, prange
 
 from geompm.backend.cpu_loops import law_wave_speed
+from geompm.errors import SimulationError
 from geompm.schemes.saturated import kernels as tp
 from geompm.schemes.saturated.kernels import speed_terms_one
 
@@ -61,9 +62,11 @@ def block_extremes(scene, state, pw) -> np.ndarray:
     return rows
 
 
-def combined_speeds(rows: np.ndarray, pw) -> dict[str, float]:
+def combined_speeds(rows: np.ndarray, pw, names, where=None) -> dict[str, float]:
     """{'undrained', 'water', 'skeleton', 'flow'} [m/s] from the blocks' extremes (block_extremes, reduced
-    over the ranks)."""
+    over the ranks).  A block whose extremes give no real undrained wave (a density or porosity that left its
+    range: a blown-up particle) raises SimulationError (exit 3), naming the material (``names``) and the particle
+    through ``where(k)`` (this process's particle of block k that is out of range, or '')."""
     out = {"undrained": 0.0, "water": 0.0, "skeleton": 0.0, "flow": 0.0}
     for k, (c, neg_n, rho_d, neg_sat, flow) in enumerate(rows):
         out["skeleton"] = max(out["skeleton"], float(c))
@@ -72,7 +75,15 @@ def combined_speeds(rows: np.ndarray, pw) -> dict[str, float]:
         if not pw.wet[k] or n_min >= 1.0:
             continue
         row = pw.table[k]
-        out["undrained"] = max(out["undrained"], math.sqrt((c * c * rho_d + row[tp.WATER.k_w] / n_min) / rho_sat))
+        squared = (c * c * rho_d + row[tp.WATER.k_w] / n_min) / rho_sat
+        if not (math.isfinite(squared) and squared > 0.0 and n_min > 0.0):
+            raise SimulationError(
+                f"the undrained wave speed of material '{names[k]}' is not real (smallest porosity {n_min:.4g}, smallest "
+                f"saturated density {rho_sat:.4g} kg/m3, largest dry density {rho_d:.4g} kg/m3, law speed "
+                f"{c:.4g} m/s){where(k) if where is not None else ''}. Likely cause: the particle was crushed or "
+                "torn apart by a blow-up (a step too long for the waves, or linear shape functions in a fast "
+                "flow: docs/pore-water.md, Limits)")
+        out["undrained"] = max(out["undrained"], math.sqrt(squared))
         out["water"] = max(out["water"], math.sqrt(row[tp.WATER.k_w] / row[tp.WATER.rho_w]))
     return out
 
@@ -83,7 +94,22 @@ def saturated_speeds(scene, state, pw, comm=None) -> dict[str, float]:
     rows = block_extremes(scene, state, pw)
     if comm is not None:
         rows = np.asarray(comm.max(rows.ravel())).reshape(rows.shape)
-    return combined_speeds(rows, pw)
+    return combined_speeds(rows, pw, scene.material_names, lambda k: out_of_range(scene, state, pw, k))
+
+
+def out_of_range(scene, state, pw, k: int) -> str:
+    """', at particle <id> (...)': this process's particle of material k whose density or porosity is out of
+    range (the smallest saturated density if none is), or '' when this process holds none of them."""
+    s, e = state.blocks[k]
+    if e <= s:
+        return ""
+    n = state.p_n[s:e]
+    rho_sat = state.p_rho[s:e] + state.p_sat[s:e] * n * pw.table[k, tp.WATER.rho_w]
+    bad = ~np.isfinite(rho_sat) | (rho_sat <= 0.0) | ~(n > 0.0)
+    p = s + int(np.argmax(bad) if bad.any() else np.argmin(rho_sat))
+    return (f", at particle {int(state.p_id[p])} (body {int(state.p_body[p])}, x = "
+            f"{np.round(state.p_x[p], 4).tolist()} m, density "
+            f"{float(state.p_rho[p]):.4g} kg/m3, porosity {float(state.p_n[p]):.4g})")
 
 
 def drag_limit(state, pw) -> float:
