@@ -58,7 +58,9 @@ def cmd_validate(args) -> int:
         print(f"warning: the first time step is below time.dt_min = {scene.dt_min:g} s: `geompm run` would stop "
               "before the first step (exit 3); the wave speed sqrt(E/rho), the viscosity and time.cfl set it")
     _step_limits(scene)
-    for line in scene.scheme.report(scene):
+    scheme = scene.scheme
+    print(f"scheme '{scheme.name}', a step's passes: {' -> '.join(scheme.passes)}")
+    for line in scheme.report(scene):
         print(line)
     if scene.strength_trigger is not None:
         times, factors, ids = scene.strength_trigger

@@ -11,7 +11,9 @@ A scheme (PySPH's idea, in geompm's terms) declares
 - ``splits_over_ranks``: whether its passes go through the run's decomposition (parallel/), so that a run
   on several MPI ranks may use it;
 - ``split_force``: whether its passes read the nodal force apart from the momentum;
-- ``step(run, dt)``: its ordered passes, the backend's kernels and the stages, through a ``StepContext``.
+- ``passes``: its ordered passes, each the name of a method ``(run, dt)`` of the scheme (the core's passes
+  are methods of this base class: ``window``, ``p2g``, ``grid_update``, ``grid_stages``, ``g2p``, ...);
+  ``step(run, dt)`` runs them in order through a ``StepContext``, and `geompm validate` prints them.
 
 A scheme is registered as the ``geompm.schemes`` entry point, as a law is; the scheduler runs the scene's
 scheme and names none (engine/scheduler.py).  A scheme with passes of its own (saturated soil's two-phase
@@ -20,7 +22,8 @@ passes) gives each backend an object of them through ``backend_passes``; a schem
 
 ``StepContext`` holds what a step's passes need of the run, defined here so that the engine imports the
 schemes and never the reverse: the backend, the run's decomposition (``domain``), the stages by kind, the
-time and the step count, and the helpers every explicit step shares (``begin``, ``end``, ``advance``).
+time and the step count, the step's grid window (``view``) and the helpers every explicit step shares
+(``window``, ``halo``, ``grid_stages_run``, ``advance``).
 The engine's ``Simulation`` is a ``StepContext``.
 """
 
@@ -76,6 +79,9 @@ class Scheme:
     split_force: ClassVar[bool] = False
     #: the particle arrays it declares beyond the core's (mpm/state.py)
     fields: ClassVar[tuple[Field, ...]] = ()
+    #: the step's passes in order: names of methods ``(run, dt)`` of the scheme; the first makes the step's
+    #: grid window (``run.view``) that the others read
+    passes: ClassVar[tuple[str, ...]] = ()
 
     # -- the case, before any work (schema/load.py) -------------------------------------------------
     @classmethod
@@ -121,7 +127,44 @@ class Scheme:
         return NO_PASSES
 
     def step(self, run: "StepContext", dt: float) -> None:
-        raise NotImplementedError
+        """One step: the declared passes in order."""
+        for name in self.passes:
+            getattr(self, name)(run, dt)
+
+    # -- the core's passes, which schemes list by name ---------------------------------------------------------
+    def window(self, run, dt: float) -> None:
+        """Particles to their rank, the spatial sort when due, the step's grid window (run.view)."""
+        run.view = run.window()
+
+    def load(self, run, dt: float) -> None:
+        """What acts on the grid from outside the particles' state (a water table's pore pressure)."""
+        run.load()
+
+    def p2g(self, run, dt: float) -> None:
+        """Mass, momentum and internal force onto the grid, the halo summed."""
+        be, view = run.backend, run.view
+        be.p2g(view, 1.0 if be.split_force else dt)
+        run.halo((view.g_mass, view.g_mom, view.g_force))
+
+    def grid_update(self, run, dt: float) -> None:
+        """The nodes' momentum balance with gravity."""
+        run.backend.grid_update(run.view, dt)
+
+    def grid_stages(self, run, dt: float) -> None:
+        """Every grid stage in phase order (loads, damping, boundaries, obstacles)."""
+        run.grid_stages_run(run.view, dt)
+
+    def g2p(self, run, dt: float) -> None:
+        """Velocities, affine matrices, positions, velocity gradients and volumes from the grid."""
+        run.backend.g2p(run.view, dt, set_velocity=True, move=True, gradient=True)
+
+    def particle_stages(self, run, dt: float) -> None:
+        """Every particle stage in phase order (particle damping, the penetration guard)."""
+        run.backend.particle_stages(run.particle_stages, dt, run.time)
+
+    def stress_update(self, run, dt: float) -> None:
+        """Each material block's law on its particles, then the clock."""
+        run.advance(run.view, dt)
 
     def wave_speed(self, scene, state, finite_only: bool = False, comm=None) -> float:
         """Largest wave speed [m/s] that bounds the step: each material block's law speed (``finite_only``:
@@ -194,21 +237,10 @@ class StepContext:
             if lo <= stage.phase < hi:
                 self.backend.grid_stage(stage, view, dt, self.time, remap)
 
-    def begin(self, dt: float):
-        """The window, P2G with the halo summed, the grid update and the grid stages (USL and MUSL)."""
-        view = self.window()
-        be = self.backend
-        self.load()
-        be.p2g(view, 1.0 if be.split_force else dt)
-        self.domain.sum_halo(view, (view.g_mass, view.g_mom, view.g_force))
-        be.grid_update(view, dt)
-        self.grid_stages_run(view, dt)
-        return view
-
-    def end(self, view, dt: float) -> None:
-        """The particle stages and the stress update, then the clock."""
-        self.backend.particle_stages(self.particle_stages, dt, self.time)
-        self.advance(view, dt)
+    def halo(self, arrays) -> None:
+        """Add the neighbouring ranks' partial sums of window arrays of this step's view (nothing in one
+        process)."""
+        self.domain.sum_halo(self.view, arrays)
 
     def strength_changes(self) -> None:
         """A strength trigger's factor on the laws' parameters before the stress update (engine/triggers.py)."""

@@ -1,8 +1,8 @@
 """USL, update stress last: the explicit MPM step of a dry scene (docs/method.md).
 
-    [spatial sort every solver.sort_interval steps]
-    P2G (mass, momentum, internal force) -> halo sum -> grid update (+ gravity)
-    -> grid stages (boundaries, obstacles, grid damping) in phase order
+    [spatial sort every solver.sort_interval steps] window -> the water table's pressure, if any
+    -> P2G (mass, momentum, internal force) -> halo sum -> grid update (+ gravity)
+    -> grid stages (loads, damping, boundaries, obstacles) in phase order
     -> G2P (velocity, affine matrix, position, velocity gradient, volume)
     -> particle stages (particle damping, penetration guard) -> stress update per material block
 
@@ -18,8 +18,4 @@ class Usl(Scheme):
     name = "usl"
     description = "update stress last (Sulsky, Chen & Schreyer 1994): the default explicit step"
     default = True
-
-    def step(self, run, dt: float) -> None:
-        view = run.begin(dt)
-        run.backend.g2p(view, dt, set_velocity=True, move=True, gradient=True)
-        run.end(view, dt)
+    passes = ("window", "load", "p2g", "grid_update", "grid_stages", "g2p", "particle_stages", "stress_update")

@@ -81,25 +81,37 @@ class Saturated(Scheme):
         module, cls = PASSES[backend.name]
         return getattr(importlib.import_module(module), cls)(backend, self.water)
 
-    def step(self, run, dt: float) -> None:
-        be = run.backend
-        wet = be.passes
-        view = run.window()
+    passes = ("window", "two_phase_p2g", "grid_update", "loads_and_damping", "relative_velocity", "contacts",
+              "split", "water_g2p", "g2p", "particle_stages", "porosity", "stress_update")
 
-        def halo(arrays):
-            run.domain.sum_halo(view, arrays)
+    def two_phase_p2g(self, run, dt: float) -> None:
+        """Both phases onto the grid (the pressure smoothed, the total stress, the halo summed), the nodes'
+        fill and the mixture."""
+        run.backend.passes.p2g(run.view, run.halo)
 
-        wet.p2g(view, halo)
-        be.grid_update(view, dt)
-        run.grid_stages_run(view, dt, phases=(-math.inf, BOUNDARY))
-        wet.snapshot(view, dt)
-        run.grid_stages_run(view, dt, phases=(BOUNDARY, math.inf))
-        wet.split(view, dt)
-        wet.water_g2p(view, dt, halo)
-        be.g2p(view, dt, set_velocity=True, move=True, gradient=True)
-        be.particle_stages(run.particle_stages, dt, run.time)
-        wet.porosity()
-        run.advance(view, dt)
+    def loads_and_damping(self, run, dt: float) -> None:
+        """The grid stages before BOUNDARY, acting on the mixture."""
+        run.grid_stages_run(run.view, dt, phases=(-math.inf, BOUNDARY))
+
+    def relative_velocity(self, run, dt: float) -> None:
+        """The water's velocity relative to the solid after the step, drag implicit."""
+        run.backend.passes.snapshot(run.view, dt)
+
+    def contacts(self, run, dt: float) -> None:
+        """The boundary and obstacle stages, acting on the mixture."""
+        run.grid_stages_run(run.view, dt, phases=(BOUNDARY, math.inf))
+
+    def split(self, run, dt: float) -> None:
+        """The solid's and the water's velocities from the mixture's, with the walls' water rules."""
+        run.backend.passes.split(run.view, dt)
+
+    def water_g2p(self, run, dt: float) -> None:
+        """The water's particle velocity and the pore pressure's step, at the particles before they move."""
+        run.backend.passes.water_g2p(run.view, dt, run.halo)
+
+    def porosity(self, run, dt: float) -> None:
+        """Each particle's porosity from its skeleton's volume."""
+        run.backend.passes.porosity()
 
     def wave_speed(self, scene, state, finite_only: bool = False, comm=None) -> float:
         from geompm.schemes.saturated.speeds import saturated_speeds
