@@ -35,7 +35,7 @@ def saturated_passes(steps):
     sim = Simulation(scene_from_dict(json.loads((HERE / "saturated3d.json").read_text())))
     for _ in range(3):  # compile and settle
         sim.step(sim.stable_dt())
-    be, wet = sim.backend, sim.backend.passes
+    be, wet = sim.backend, sim.backend.scheme_passes
     table = {}
     each = be.each
     be.each = lambda fn, n, *args: timed(table, fn.__name__, each)(fn, n, *args)

@@ -1,7 +1,7 @@
 """The backend contract: what the scheduler asks of the machine a step runs on.
 
 One step in backend calls (the ``usl`` scheme's, schemes/usl.py; other schemes order the same calls
-differently and add their own passes, ``passes``):
+differently and add their own passes, ``scheme_passes``):
 
     sort_particles()                 every solver.sort_interval steps
     view = window()                  the active grid window (mpm/grid.py)
@@ -119,7 +119,7 @@ class Backend:
 
     #: the scene's scheme's own passes on this backend (schemes/base.Scheme.backend_passes; NO_PASSES when
     #: the scheme runs the core's kernels only): the backend declares them here so a scheme finds them
-    passes = None
+    scheme_passes = None
 
     def set_table_pressure(self, p_table_pressure) -> None:
         """The pore pressure [Pa] of each particle under a water table (mpm/water_table.py) that the next P2G

@@ -59,7 +59,7 @@ class CpuBackend(Backend):
         self._box_rows = np.zeros((G2P_CHUNKS, 2, 3))
         self.p_box = None
         #: the scheme's own passes on this backend (schemes/base.Scheme.backend_passes)
-        self.passes = scene.scheme.backend_passes(self)
+        self.scheme_passes = scene.scheme.backend_passes(self)
         #: the stress the grid sees: the particles' own, or a water table's total stress (set_table_pressure)
         self._acting_stress = self._own_stress
         self.p_table_pressure = None
@@ -69,7 +69,7 @@ class CpuBackend(Backend):
         return self.state
 
     def nbytes(self) -> int:
-        return self.state.nbytes() + self.buffers.nbytes() + self.passes.nbytes()
+        return self.state.nbytes() + self.buffers.nbytes() + self.scheme_passes.nbytes()
 
     def window(self):
         return self.buffers.window(self.state.p_x)

@@ -99,8 +99,8 @@ class CudaBackend(Backend):
         self._tables: dict = {}  # (stage, pass) -> (its aux on the host, the device copy)
         self._on_host = True  # the host arrays are current; the next kernel uploads them
         #: the scheme's own passes on this backend (schemes/base.Scheme.backend_passes)
-        self.passes = scene.scheme.backend_passes(self)
-        self.device_arrays = DEVICE_ARRAYS + self.passes.device_arrays
+        self.scheme_passes = scene.scheme.backend_passes(self)
+        self.device_arrays = DEVICE_ARRAYS + self.scheme_passes.device_arrays
 
     # -- host <-> device -------------------------------------------------------------------------------
     def _device(self) -> dict:
@@ -121,7 +121,7 @@ class CudaBackend(Backend):
         return self.state
 
     def nbytes(self) -> int:
-        return self.state.nbytes() + self.buffers.nbytes() + self.passes.nbytes()
+        return self.state.nbytes() + self.buffers.nbytes() + self.scheme_passes.nbytes()
 
     # -- the step ---------------------------------------------------------------------------------------
     def window(self):
@@ -206,7 +206,7 @@ class CudaBackend(Backend):
             if e > s:
                 wave = type(mat).particle_wave_speed
                 laws[k] = max(wave(mat.prm, -r[1 + 2 * k]), wave(mat.prm, r[2 + 2 * k]))
-        c = self.passes.wave_speed(laws)
+        c = self.scheme_passes.wave_speed(laws)
         if self.max_rate is None:  # before the first step, after a restore: from the particles
             self.max_rate = max_rate(self.host_state().p_L) if st.n else 0.0
         return c, (float(r[0]) if st.n else 0.0), self.max_rate

@@ -27,7 +27,7 @@ from geompm.schemes.saturated.fields import FIELDS
 from geompm.schemes.saturated.kernels import WALL, WATER
 
 #: the backend's passes of the scheme, by backend name (imported when a backend of that name asks)
-PASSES = {"cpu": ("geompm.schemes.saturated.cpu", "SaturatedCpu"),
+BACKEND_PASSES = {"cpu": ("geompm.schemes.saturated.cpu", "SaturatedCpu"),
           "cuda": ("geompm.schemes.saturated.cuda", "SaturatedCuda")}
 
 
@@ -76,9 +76,9 @@ class Saturated(Scheme):
     def backend_passes(self, backend):
         import importlib
 
-        if backend.name not in PASSES:
+        if backend.name not in BACKEND_PASSES:
             raise NotImplementedError(f"the saturated scheme has no passes for the '{backend.name}' backend")
-        module, cls = PASSES[backend.name]
+        module, cls = BACKEND_PASSES[backend.name]
         return getattr(importlib.import_module(module), cls)(backend, self.water)
 
     passes = ("window", "two_phase_p2g", "grid_update", "loads_and_damping", "relative_velocity", "contacts",
@@ -87,7 +87,7 @@ class Saturated(Scheme):
     def two_phase_p2g(self, run, dt: float) -> None:
         """Both phases onto the grid (the pressure smoothed, the total stress, the halo summed), the nodes'
         fill and the mixture."""
-        run.backend.passes.p2g(run.view, run.halo)
+        run.backend.scheme_passes.p2g(run.view, run.halo)
 
     def loads_and_damping(self, run, dt: float) -> None:
         """The grid stages before BOUNDARY, acting on the mixture."""
@@ -95,7 +95,7 @@ class Saturated(Scheme):
 
     def relative_velocity(self, run, dt: float) -> None:
         """The water's velocity relative to the solid after the step, drag implicit."""
-        run.backend.passes.snapshot(run.view, dt)
+        run.backend.scheme_passes.snapshot(run.view, dt)
 
     def contacts(self, run, dt: float) -> None:
         """The boundary and obstacle stages, acting on the mixture."""
@@ -103,15 +103,15 @@ class Saturated(Scheme):
 
     def split(self, run, dt: float) -> None:
         """The solid's and the water's velocities from the mixture's, with the walls' water rules."""
-        run.backend.passes.split(run.view, dt)
+        run.backend.scheme_passes.split(run.view, dt)
 
     def water_g2p(self, run, dt: float) -> None:
         """The water's particle velocity and the pore pressure's step, at the particles before they move."""
-        run.backend.passes.water_g2p(run.view, dt, run.halo)
+        run.backend.scheme_passes.water_g2p(run.view, dt, run.halo)
 
     def porosity(self, run, dt: float) -> None:
         """Each particle's porosity from its skeleton's volume."""
-        run.backend.passes.porosity()
+        run.backend.scheme_passes.porosity()
 
     def wave_speed(self, scene, state, finite_only: bool = False, comm=None) -> float:
         from geompm.schemes.saturated.speeds import saturated_speeds
