@@ -1,5 +1,8 @@
-"""Terzaghi's column loaded undrained, pushed and pulled: does the saturated step hold suction as it holds
-compression?  (Measured for the issue on debris and water: it does not.)
+"""Terzaghi's column loaded undrained, pushed and pulled: does the saturated column hold suction as it holds
+compression?  Measured: it does not, and the cause is the boundary, not the two-phase step.  The side walls
+are ``slip`` walls, one-sided contacts: pulled, the column's total lateral stress turns to tension and it
+leaves them (in the column started in its undrained state at -9.6 kPa, by 2.9 um a side within 1 ms, 13x the
+undrained volumetric strain), which relieves the water.  Pushed, it presses on them and holds.
 
     python benchmarks/pore_water/undrained_pull.py > benchmarks/results/<date>-undrained-pull.txt
 
