@@ -1,8 +1,8 @@
 """A rigid half-space on the grid and on the particles: the shared base of ``wall`` and ``plane``.
 
 On grid nodes: every node whose signed distance (x_i - point) . n is <=
-``layer`` gets the contact rule of contact.py (``slip``, ``fixed`` or
-``friction``), n the unit normal pointing from the surface into the material.
+``layer`` gets the contact rule of contact/rules.py (``slip``, ``fixed``,
+``friction`` or ``roller``), n the unit normal pointing from the surface into the material.
 On particles, after G2P: a particle that still ended behind the surface is
 put back on it, so none is ever deeper than round-off (a fast particle, or a
 plane that cuts the cells between nodes, can end a step behind it).  Both are per-item functions run by the backend (contract/stages.py).

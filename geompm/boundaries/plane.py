@@ -3,7 +3,7 @@
 The plane passes through ``point`` with unit ``normal`` pointing from the
 plane into the material (the side where particles may be).  Every window node
 whose signed distance (x_i - point) . n is <= ``contact_layer`` (0: on or
-behind the plane) gets the contact rule of contact.py (``slip``, ``fixed`` or
+behind the plane) gets the contact rule of contact/rules.py (``slip``, ``fixed``, ``roller`` or
 ``friction`` with coefficient ``friction``).
 
 ``contact_layer`` > 0 also puts the nodes just in front of the plane in
@@ -31,7 +31,10 @@ from geompm.boundaries.halfspace import HalfSpace
 class PlaneParams(Params):
     point: list[float] = Field(description="A point on the plane [m]")
     normal: list[float] = Field(description="Normal pointing from the plane into the material (any length)")
-    condition: Literal["slip", "fixed", "friction"] = Field("slip", description="Contact condition")
+    condition: Literal["slip", "fixed", "friction", "roller"] = Field(
+        "slip", description="Contact condition: 'slip' (free to separate), 'fixed' (no slip), 'friction' (Coulomb), "
+        "'roller' (no normal motion either way, tangential free: a symmetry plane or a bonded smooth wall that "
+        "holds tension)")
     friction: float = Field(0.0, ge=0.0, description="Coulomb coefficient mu [-] (condition 'friction')")
     drainage: Literal["impermeable", "drained"] = Field(
         "impermeable", description="For saturated soil (materials' pore_water): 'impermeable' (no water flows "

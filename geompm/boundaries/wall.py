@@ -2,8 +2,9 @@
 
 Acts on the nodes on and beyond the face (global index <= 0 for a '-' side,
 >= ncells for a '+' side), with the unit normal pointing into the domain, by
-the rule of contact.py: ``fixed`` (no slip), ``slip`` (free to separate) or
-``friction`` (Coulomb, coefficient ``friction``).  After G2P a particle that
+the rule of contact/rules.py: ``fixed`` (no slip), ``slip`` (free to separate),
+``friction`` (Coulomb, coefficient ``friction``) or ``roller`` (no normal motion either
+way: a symmetry plane).  After G2P a particle that
 ended beyond the face is put back on it.  A half-space (halfspace.py) through
 the face, with a contact layer of h / 4 (the nodes lie on the face or whole
 cells away from it); the backend visits only the slab of nodes on and beyond
@@ -26,7 +27,10 @@ SIDES = ("x-", "x+", "y-", "y+", "z-", "z+")
 
 class WallParams(Params):
     side: Literal["x-", "x+", "y-", "y+", "z-", "z+"] = Field(description="Face of the grid")
-    condition: Literal["slip", "fixed", "friction"] = Field("slip", description="Contact condition")
+    condition: Literal["slip", "fixed", "friction", "roller"] = Field(
+        "slip", description="Contact condition: 'slip' (free to separate), 'fixed' (no slip), 'friction' (Coulomb), "
+        "'roller' (no normal motion either way, tangential free: a symmetry plane or a bonded smooth wall that "
+        "holds tension)")
     friction: float = Field(0.0, ge=0.0, description="Coulomb coefficient mu [-] (condition 'friction')")
     drainage: Literal["impermeable", "drained"] = Field(
         "impermeable", description="For saturated soil (materials' pore_water): 'impermeable' (no water flows "

@@ -9,14 +9,17 @@ pointing away from the surface into the material, v_n = v . n:
   tangential part scaled by max(0, 1 - mu |v_n| / |v_t|): Coulomb friction in
   velocity form, the tangential impulse never exceeding mu times the normal one
   and never reversing the sliding direction (Bardenhagen, Brackbill & Sulsky
-  2000, Comput. Methods Appl. Mech. Eng. 187:529).
+  2000, Comput. Methods Appl. Mech. Eng. 187:529);
+- roller (3): the normal component is removed whatever its sign, the tangential
+  part is free: a symmetry plane, or a smooth wall the material is bonded to, that
+  holds tension as well as compression (an oedometer's ring under suction).
 """
 
 import math
 
 from numba import njit
 
-CONDITIONS = {"fixed": 0, "slip": 1, "friction": 2}
+CONDITIONS = {"fixed": 0, "slip": 1, "friction": 2, "roller": 3}
 #: a node within ON_SURFACE h of a surface is on it, in contact: a node that lies exactly on a face
 #: (an obstacle or plane aligned with the grid) otherwise has a signed distance of +-1e-17 m from the
 #: round-off of the lattice or of the plane's point, and that sign decided whether the face's whole row
@@ -40,7 +43,7 @@ def apply_condition(v, normal, n0, condition, mu):
     vn = 0.0
     for a in range(d):
         vn += v[a] * normal[n0 + a]
-    if vn >= 0.0:
+    if vn >= 0.0 and condition != 3:
         return
     vt2 = 0.0
     for a in range(d):

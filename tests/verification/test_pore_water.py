@@ -7,8 +7,9 @@ The tests assert the two coarser grids of the three in docs/pore-water.md.
 """
 
 
-from geompm.testing.verification.saturated_columns import (hydrostatic_column, isotropic_undrained, run_terzaghi, seepage_column,
-                                     undrained_column, undrained_wave_speed)
+from geompm.testing.verification.saturated_columns import (hydrostatic_column, isotropic_undrained,
+                                                          oedometer_undrained, run_terzaghi, seepage_column,
+                                                          undrained_column, undrained_wave_speed)
 
 
 def test_saturated_column_at_rest_is_hydrostatic():
@@ -86,3 +87,18 @@ def test_undrained_p_wave_speed():
     run at the skeleton's 267 m/s."""
     r = undrained_wave_speed(0.025)
     assert abs(r["error"]) < 0.02, r
+
+
+def test_suction_is_held_as_compression_is_in_an_undrained_oedometer():
+    """Terzaghi's column undrained (k = 1e-9 m/s), base fixed, sides ``roller`` (an oedometer's ring: no
+    lateral motion either way), loaded over 2 ms by +/-50 kPa and brought to rest: the interior's pore
+    pressure is the oedometric Skempton value p = B q (B = 1 / (1 + n M / K_w) = 0.962) within 1 % in
+    compression and in suction alike (measured -0.35 % both at h = 0.1 m), and the total stress carries the
+    load.  With one-sided ``slip`` sides the pulled column's total lateral stress is tensile: it leaves the
+    walls (its width shrinks) and its water relaxes to a fraction of B q (measured -9.1 kPa against -48.1 kPa):
+    the boundary's doing, which the roller removes (benchmarks/pore_water/undrained_pull.py)."""
+    push, pull = oedometer_undrained(0.1, 50e3), oedometer_undrained(0.1, -50e3)
+    for r in (push, pull):
+        assert abs(r["error"]) < 0.01 and abs(r["total_error"]) < 1e-3 and r["width_change"] == 0.0, r
+    loose = oedometer_undrained(0.1, -50e3, sides="slip")
+    assert loose["width_change"] < -1e-6 and loose["p"] > 0.5 * loose["p_exact"], loose

@@ -162,6 +162,37 @@ def undrained_column(h: float, k: float = 1e-9) -> dict:
             "split_error": p / -s / split - 1, "total_error": (s - p) / -c["q"] - 1}
 
 
+def oedometer_undrained(h: float, q: float, sides: str = "roller", k: float = 1e-9) -> dict:
+    """Terzaghi's column as an undrained oedometer, pushed (q > 0) or pulled (q < 0) [Pa]: from rest (p = 0,
+    sigma' = 0), k so small that no water moves in the 40 ms run, the base ``fixed``, the sides ``sides``
+    (``roller`` holds the column laterally both ways, as an oedometer's ring; ``slip`` only against
+    compression), the load ramped over 2 ms, local damping 0.3.  Undrained and oedometric the interior's pore
+    pressure is p = B q, B = 1 / (1 + n M / K_w), whatever the load's sign.  Returns the interior's mean pore
+    pressure, its error against B q, the total stress's error against the load and the column's lateral
+    extent's change [m]."""
+    case = copy.deepcopy(terzaghi_case(h))
+    case["bodies"][0].pop("stress_offset")
+    case["bodies"][0].pop("pore_pressure")
+    case["materials"]["soil"]["pore_water"]["hydraulic_conductivity"] = k
+    case["boundaries"][0]["condition"] = "fixed"
+    for wall in case["boundaries"][1:3]:
+        wall["condition"] = sides
+    case["boundaries"][-1]["pressure"] = q
+    case["boundaries"][-1]["ramp_time"] = 0.002
+    case["damping"] = [{"model": "local", "alpha": 0.3}]
+    c = terzaghi_constants(case)
+    sim = Simulation(scene_from_dict(case))
+    st = sim.state
+    width0 = float(np.ptp(st.p_x[:, 0]))
+    run_to(sim, 0.04)
+    inner = (st.p_x0[:, 1] > 2 * h) & (st.p_x0[:, 1] < c["H"] - 2 * h)
+    p, s = float(st.p_pore[inner].mean()), float(st.p_stress[inner, 1].mean())
+    exact = q / (1 + c["n"] * c["M"] / c["Kw"])
+    return {"h": h, "q": q, "sides": sides, "p": p, "p_exact": exact, "error": p / exact - 1,
+            "total_error": (s - p) / -q - 1, "width_change": float(np.ptp(st.p_x[:, 0])) - width0,
+            "steps": sim.step_count}
+
+
 def seepage_column(h: float, k: float = 1e-2, end: float = 0.3) -> dict:
     """Steady downward seepage through a saturated column drained at its top (free surface) and at its base
     (a drained slip wall: water leaves, the skeleton stays), between impermeable slip walls: the pore
