@@ -152,6 +152,10 @@ class PoreWaterSpec(Strict):
     max_porosity: float = Field(
         0.9, gt=0, lt=1, description="Where the skeleton opens beyond this porosity [-] its grains have "
         "separated: no pore pressure (drained) and no drag there (docs/pore-water.md)")
+    cavitation_pressure: float = Field(
+        -100e3, le=0, description="The lowest pore pressure the water sustains [Pa, gauge, compression "
+        "positive]: below it the water cavitates and the pore pressure is held there (default -100 kPa, about "
+        "water's vapour pressure below one atmosphere; docs/pore-water.md, Suction)")
     fluid: PoreFluidSpec = Field(default_factory=PoreFluidSpec, description="The pore water")
 
 

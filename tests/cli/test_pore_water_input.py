@@ -54,6 +54,8 @@ def _pw(case):
     (lambda c: c["solver"].update(update="musl") if "solver" in c else c.update(solver={"update": "musl"}),
      "solver.update", "saturated"),
     (lambda c: c.update(solver={"transfer": "flip"}), "solver.transfer", "apic"),
+    (lambda c: _pw(c).update(cavitation_pressure=5e3), "materials.soil.pore_water.cavitation_pressure",
+     "must be <= 0.0"),
 ])
 def test_bad_pore_water_input_is_refused_with_its_path(edit, path, words):
     """Each edit of the valid Terzaghi case is refused before any work, naming its JSON path."""

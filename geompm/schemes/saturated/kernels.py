@@ -40,8 +40,9 @@ from geompm.kernels.shape import LINEAR, axis_stencil
 
 #: a material's row of the pore-water table (schemes/saturated/setup.py): the water's density [kg/m3], bulk
 #: modulus [Pa] and viscosity [Pa s], the initial porosity [-], the intrinsic permeability at it [m2], 1 for
-#: Kozeny-Carman's update of it (0: constant), the porosity past which the skeleton is separated [-]
-WATER = param_layout("rho_w", "k_w", "mu_w", "n0", "kappa0", "kozeny", "n_max")
+#: Kozeny-Carman's update of it (0: constant), the porosity past which the skeleton is separated [-], the
+#: cavitation pressure [Pa, gauge]
+WATER = param_layout("rho_w", "k_w", "mu_w", "n0", "kappa0", "kozeny", "n_max", "p_cav")
 #: a node's row of the water's grid ``g_w`` (water_p2g): its mass [kg], momentum [kg m/s] and internal force
 #: sum V s n p grad N [N] per axis (z unused in 2D), the drag coefficient c = sum N D V [kg/s] and the
 #: particles' volume sum N V [m^d] (the free-surface fill)
@@ -453,11 +454,31 @@ def pressure_increment_one(p, p_dp, p_divw, p_divs, p_n, p_material, table, dt):
 
 
 @njit(cache=True, inline="always")
-def add_increment_one(p, p_carried, p_pore, p_dp, p_drained):
-    """Both pressures of particle p += dp where it holds pressure; both 0 where it is drained."""
+def add_increment_one(p, p_carried, p_pore, p_dp, p_drained, p_material, table):
+    """Both pressures of particle p += dp where it holds pressure, the acting one (p_pore) never below the
+    water's cavitation pressure (cavitation_one); both 0 where it is drained.  The carried pressure is the
+    water's mass balance unbounded: below p_cav it measures the vapour the pores hold, (p_cav - p) n / K_w of
+    their volume, which a recompression closes before the acting pressure rises again."""
     if p_drained[p] != 0.0:
         p_carried[p] = 0.0
         p_pore[p] = 0.0
     else:
         p_carried[p] += p_dp[p]
-        p_pore[p] += p_dp[p]
+        p_pore[p] = max(p_pore[p] + p_dp[p], table[p_material[p], WATER.p_cav])
+
+
+@njit(cache=True, inline="always")
+def acting_one(p, p_pore, p_carried, p_drained, p_material, table):
+    """Particle p's acting pressure from its carried one where the pressure is not seen through the grid
+    (solver.pore_pressure_smoothing false): p_carried, held at p_cav (cavitation_one); 0 where drained."""
+    p_pore[p] = 0.0 if p_drained[p] != 0.0 else max(p_carried[p], table[p_material[p], WATER.p_cav])
+
+
+@njit(cache=True, inline="always")
+def cavitation_one(p, p_pore, p_material, table):
+    """The acting pressure of particle p held at the water's cavitation pressure p_cav <= 0: the water
+    vaporises below it (docs/pore-water.md, Suction).  With the carried pressure unbounded the hold is a
+    reversible, bilinear law of the water, p = max(p*, p_cav) with p* the mass balance's pressure: vapour forms
+    as the pores dilate and closes as they contract, so the pressure's work stays a function of the state and
+    the health check's energy budget needs no term for it."""
+    p_pore[p] = max(p_pore[p], table[p_material[p], WATER.p_cav])

@@ -1,6 +1,7 @@
 """The saturated scheme's passes, one order for every backend (docs/pore-water.md; schemes/saturated/scheme.py).
 
-    p2g: the acting pressure p = S p_carried (scatter, halo, smooth_node_one, smooth_gather_one), the total
+    p2g: the acting pressure p = max(S p_carried, p_cav) (scatter, halo, smooth_node_one, smooth_gather_one,
+         cavitation_one; without the smoothing acting_one), the total
          stress, water mass and drag (prepare_one), the solid's P2G on the total stress, the water's P2G, the
          halo summed, the nodes' fill (node_fill_one) and the mixture (node_mixture_one)
     -> grid update (the mixture) -> stages before BOUNDARY
@@ -126,6 +127,9 @@ class SaturatedPasses:
         lo, nloc = self.window_index(view)
         if self.smoothing:
             self._smooth(view, lo, nloc, halo, P, P.p_pore_carried, P.p_pore)
+            be.each(tp.cavitation_one, self.n, P.p_pore, P.p_material, self.table)
+        else:
+            be.each(tp.acting_one, self.n, P.p_pore, P.p_pore_carried, P.p_drained, P.p_material, self.table)
         be.each(tp.prepare_one, self.n, P.p_stress, P.p_pore, P.p_n, P.p_sat, P.p_vol, P.p_material, self.table,
                 self.p_total, self.p_wmass, self.p_drag)
         self._scatter(view, lo, nloc, P)
@@ -163,7 +167,7 @@ class SaturatedPasses:
         if self.smoothing:
             self._smooth(view, lo, nloc, halo, P, self.p_dp, self.p_dps)
             dp = self.p_dps
-        be.each(tp.add_increment_one, n, P.p_pore_carried, P.p_pore, dp, P.p_drained)
+        be.each(tp.add_increment_one, n, P.p_pore_carried, P.p_pore, dp, P.p_drained, P.p_material, self.table)
 
     def porosity(self) -> None:
         P = self.particles()

@@ -37,7 +37,7 @@ def material_table(case, names) -> PoreWater | None:
             kappa = pw.hydraulic_conductivity * f.viscosity / (f.density * STANDARD_GRAVITY)
         table[k, list(WATER)] = (
             f.density, f.bulk_modulus, f.viscosity, pw.porosity, kappa,
-            1.0 if pw.permeability_update == "kozeny_carman" else 0.0, pw.max_porosity)
+            1.0 if pw.permeability_update == "kozeny_carman" else 0.0, pw.max_porosity, pw.cavitation_pressure)
     g = np.asarray(case.gravity, float)
     norm = float(np.linalg.norm(g))
     return PoreWater(table=table, wet=[s is not None for s in specs], up=None if norm == 0.0 else -g / norm,

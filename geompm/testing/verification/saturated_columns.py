@@ -162,18 +162,22 @@ def undrained_column(h: float, k: float = 1e-9) -> dict:
             "split_error": p / -s / split - 1, "total_error": (s - p) / -c["q"] - 1}
 
 
-def oedometer_undrained(h: float, q: float, sides: str = "roller", k: float = 1e-9) -> dict:
+def oedometer_undrained(h: float, q: float, sides: str = "roller", k: float = 1e-9,
+                        cavitation: float | None = None) -> dict:
     """Terzaghi's column as an undrained oedometer, pushed (q > 0) or pulled (q < 0) [Pa]: from rest (p = 0,
     sigma' = 0), k so small that no water moves in the 40 ms run, the base ``fixed``, the sides ``sides``
     (``roller`` holds the column laterally both ways, as an oedometer's ring; ``slip`` only against
     compression), the load ramped over 2 ms, local damping 0.3.  Undrained and oedometric the interior's pore
     pressure is p = B q, B = 1 / (1 + n M / K_w), whatever the load's sign.  Returns the interior's mean pore
-    pressure, its error against B q, the total stress's error against the load and the column's lateral
-    extent's change [m]."""
+    pressure, its error against B q, the total stress's error against the load, the column's lateral
+    extent's change [m] and the least pore pressure any particle held during the run (``cavitation``: the
+    material's cavitation pressure, default the schema's -100 kPa)."""
     case = copy.deepcopy(terzaghi_case(h))
     case["bodies"][0].pop("stress_offset")
     case["bodies"][0].pop("pore_pressure")
     case["materials"]["soil"]["pore_water"]["hydraulic_conductivity"] = k
+    if cavitation is not None:
+        case["materials"]["soil"]["pore_water"]["cavitation_pressure"] = cavitation
     case["boundaries"][0]["condition"] = "fixed"
     for wall in case["boundaries"][1:3]:
         wall["condition"] = sides
@@ -184,13 +188,16 @@ def oedometer_undrained(h: float, q: float, sides: str = "roller", k: float = 1e
     sim = Simulation(scene_from_dict(case))
     st = sim.state
     width0 = float(np.ptp(st.p_x[:, 0]))
-    run_to(sim, 0.04)
+    least = 0.0
+    while sim.time < 0.04 - 1e-12:
+        sim.step(min(sim.stable_dt(), 0.04 - sim.time))
+        least = min(least, float(st.p_pore.min()))
     inner = (st.p_x0[:, 1] > 2 * h) & (st.p_x0[:, 1] < c["H"] - 2 * h)
     p, s = float(st.p_pore[inner].mean()), float(st.p_stress[inner, 1].mean())
     exact = q / (1 + c["n"] * c["M"] / c["Kw"])
     return {"h": h, "q": q, "sides": sides, "p": p, "p_exact": exact, "error": p / exact - 1,
             "total_error": (s - p) / -q - 1, "width_change": float(np.ptp(st.p_x[:, 0])) - width0,
-            "steps": sim.step_count}
+            "effective": s, "least": least, "steps": sim.step_count}
 
 
 def seepage_column(h: float, k: float = 1e-2, end: float = 0.3) -> dict:
