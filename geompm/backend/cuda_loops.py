@@ -26,6 +26,7 @@ per process (exec'd source, not cached on disk); each keeps the recipe that buil
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 
@@ -165,6 +166,7 @@ def particle_kernel(rule, scratch: int, slots: int, maxima=()):
                    {"particle_rule": rule})
 
 
+@functools.cache
 def each_kernel(fn):
     """One thread per item around a scheme's per-item function ``fn(i, *args)`` (backend/item_loops.py)."""
     from geompm.backend.item_loops import item_arguments

@@ -14,6 +14,7 @@ cuda_loops.each_kernel: one thread per item around the same function.
 
 from __future__ import annotations
 
+import functools
 import inspect
 
 from geompm.backend.codegen import loops
@@ -32,6 +33,8 @@ def item_arguments(fn) -> str:
     return ", ".join(names)
 
 
+@functools.cache
 def each_loop(fn):
-    """The parallel loop ``each(n, *args)`` around the per-item function ``fn(i, *args)``."""
+    """The parallel loop ``each(n, *args)`` around the per-item function ``fn(i, *args)`` (kept per function:
+    a step asks for it at every pass)."""
     return loops("each", {"item": fn}, EACH.format(args=item_arguments(fn)), ("each",))[0]

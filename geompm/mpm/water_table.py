@@ -55,11 +55,7 @@ class WaterTable:
 
     def point_data(self, st, time: float, mean_p) -> dict:
         """The VTU fields under the table (docs/slope-stability.md): "stress" becomes the total stress."""
-        pore = self.pressure(st.p_x, st.p_material, time).copy()
-        total = st.p_stress.copy()
-        total[:, :3] -= pore[:, None]
-        return {"stress": total, "mean_stress_p": mean_p + pore, "effective_stress": st.p_stress.copy(),
-                "effective_mean_stress_p": mean_p, "pore_pressure": pore}
+        return pore_pressure_fields(st.p_stress, self.pressure(st.p_x, st.p_material, time).copy(), mean_p)
 
 
 class NoWaterTable:
@@ -79,6 +75,16 @@ class NoWaterTable:
 
 
 NO_WATER_TABLE = NoWaterTable()
+
+
+def pore_pressure_fields(p_stress, pore, mean_p) -> dict:
+    """The output fields of effective stress ``p_stress`` (n, 6) under pore pressure ``pore`` (n,) [Pa,
+    compression positive], ``mean_p`` its mean effective stress (n,): "stress" the total stress sigma' - p I,
+    "mean_stress_p" the total mean stress, the effective ones beside them (a water table's, saturated soil's)."""
+    total = p_stress.copy()
+    total[:, :3] -= pore[:, None]
+    return {"stress": total, "mean_stress_p": mean_p + pore, "effective_stress": p_stress.copy(),
+            "effective_mean_stress_p": mean_p, "pore_pressure": pore}
 
 
 def water_table_of(scene):

@@ -187,7 +187,7 @@ class HazardMapWriter(Writer):
         self.maps = {name: np.zeros((nx, ny)) for name in MAPS}
         self.maps["arrival"][:] = -1.0
         self.basal = None
-        if sim.scene.scheme.basal_water(sim.state) is not None:
+        if sim.scene.scheme.pore_water:  # the scheme carries pore water: its basal ratio is mapped
             self.maps["pore_pressure_ratio_max"] = np.zeros((nx, ny))
             self.basal = np.zeros((nx, ny, 3))
         self.started = False

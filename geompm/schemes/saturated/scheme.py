@@ -21,6 +21,7 @@ import math
 import numpy as np
 
 from geompm.contract.stages import BOUNDARY
+from geompm.mpm.water_table import pore_pressure_fields
 from geompm.schemes.base import Scheme
 from geompm.schemes.saturated import checks, setup
 from geompm.schemes.saturated.fields import FIELDS
@@ -146,15 +147,13 @@ class Saturated(Scheme):
         s = st.p_stress
         mean = -(s[:, 0] + s[:, 1] + s[:, 2]) / 3.0
         dev = s[:, :3] + mean[:, None]
-        total = s.copy()
-        total[:, :3] -= st.p_pore[:, None]
         vw = np.zeros((st.n, 3))
         vw[:, :st.dim] = st.p_vw
-        return {"stress": total, "mean_stress_p": mean + st.p_pore, "effective_stress": s.copy(),
-                "effective_mean_stress_p": mean,
-                "effective_von_mises_q": np.sqrt(1.5 * (dev ** 2).sum(axis=1) + 3.0 * (s[:, 3:] ** 2).sum(axis=1)),
-                "pore_pressure": st.p_pore.copy(), "excess_pore_pressure": self.water.excess(st),
-                "porosity": st.p_n.copy(), "water_velocity": vw, "drained": st.p_drained.copy()}
+        out = pore_pressure_fields(s, st.p_pore.copy(), mean)
+        out.update({"effective_von_mises_q": np.sqrt(1.5 * (dev ** 2).sum(axis=1) + 3.0 * (s[:, 3:] ** 2).sum(axis=1)),
+                    "excess_pore_pressure": self.water.excess(st), "porosity": st.p_n.copy(),
+                    "water_velocity": vw, "drained": st.p_drained.copy()})
+        return out
 
     def basal_water(self, st):
         """(pore pressure [Pa], mass of solids and water [kg], |g| [m/s2]) of each particle: the hazard maps'
