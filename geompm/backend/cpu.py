@@ -21,7 +21,7 @@ from geompm.kernels.stencil import scheme_tag, stencil_tag
 from geompm.kernels.transfer2d import g2p_2d, p2g_2d
 from geompm.kernels.transfer3d import g2p_3d, p2g_3d
 from geompm.kernels.vectorised import Vectorised
-from geompm.contract.stages import FAR_NODE, GridStage, ParticleStage
+from geompm.contract.stages import DRY_NODE, FAR_NODE, GridStage, ParticleStage
 from geompm.backend.base import Backend
 from geompm.backend.cpu_loops import update_law_block
 from geompm.backend.cpu_loops import block_loops
@@ -187,6 +187,8 @@ class CpuBackend(Backend):
             return
         prm, aux = args
         f = view.g_force if view.g_force is not None else view.g_vel
+        wet = view.g_pore is not None
+        pore = view.g_pore if wet else DRY_NODE
         box = stage.node_box(time)
         first, last = self._every_node if box is None else box
         out = plan["node_out"]
@@ -195,7 +197,7 @@ class CpuBackend(Backend):
         for f_box, l_box, counted in self.domain.node_parts(first, last):
             into = out if counted else plan["node_spill"]
             loop(prm, aux, dt, g.origin, g.h, view.lo, view.nloc, f_box, l_box, view.g_mass, view.g_vel, v_old,
-                 f, plan["node_work"], into)
+                 f, pore, wet, plan["node_work"], into)
         stage.grid_reduced(self.joined(out, stage.node_reduction), dt, time, remap)
 
     def particle_stages(self, stages, dt: float, time: float) -> None:

@@ -1,7 +1,9 @@
 """The CPU backend's loops around a stage's per-node and per-particle functions (contract/stages.py).
 
-    node_pass(prm, aux, dt, origin, h, lo, nloc, first, last, g_mass, g_vel, g_vel_old, g_force, work, out)
-        the rule on every node with mass whose global index lies in [first, last] (inclusive, per axis)
+    node_pass(prm, aux, dt, origin, h, lo, nloc, first, last, g_mass, g_vel, g_vel_old, g_force, g_pore, wet, work,
+              out)
+        the rule on every node with mass whose global index lies in [first, last] (inclusive, per axis);
+        g_pore the nodes' pore water (contact/rules.NODE_PORE) with ``wet``, else one row of zeros for all
     merge_pass(prm, lo, nloc, g_mass, g_vel, g_vel_old, fold_old, nchunks)
         every node merged with its image: summed mass, mass-weighted velocity
     particle_pass(prm, aux, dt, k, start, end, p_x, p_x0, p_v, p_C, p_mass, p_stress, work, out)
@@ -25,7 +27,8 @@ from geompm.backend.codegen import loops
 
 NODE_BODY = '''
 @njit(parallel=True, cache=True)
-def node_pass(prm, aux, dt, origin, h, lo, nloc, first, last, g_mass, g_vel, g_vel_old, g_force, work, out):
+def node_pass(prm, aux, dt, origin, h, lo, nloc, first, last, g_mass, g_vel, g_vel_old, g_force, g_pore, wet, work,
+              out):
     d = g_vel.shape[1]
     b0 = np.empty(d, np.int64)  # the box [first, last] (global) as window indices [b0, b0 + bn)
     bn = np.empty(d, np.int64)
@@ -56,7 +59,8 @@ def node_pass(prm, aux, dt, origin, h, lo, nloc, first, last, g_mass, g_vel, g_v
             for a in range(d - 1, -1, -1):
                 x[a] = origin[a] + (lo[a] + rem % nloc[a]) * h
                 rem //= nloc[a]
-            node_rule(prm, aux, dt, x, m, g_vel[idx], g_vel_old[idx], g_force[idx], scratch, acc)
+            node_rule(prm, aux, dt, x, m, g_vel[idx], g_vel_old[idx], g_force[idx], g_pore[idx if wet else 0],
+                      scratch, acc)
 '''
 
 #: one node merged with its image (summed mass, mass-weighted velocity): the body of the CPU merge pass

@@ -37,7 +37,7 @@ from geompm.mpm.grid import GridView, window_extent
 from geompm.kernels.reduce import cells_of_bounds, max_rate
 from geompm.kernels.shape import support
 from geompm.kernels.stencil import SCHEMES
-from geompm.contract.stages import FAR_NODE
+from geompm.contract.stages import DRY_NODE, FAR_NODE
 from geompm.backend import cuda_kernels as K
 from geompm.backend import cuda_loops, cuda_sort
 from geompm.backend.base import Backend
@@ -92,6 +92,7 @@ class CudaBackend(Backend):
         self.max_rate = None
         self._origin = cuda.to_device(np.ascontiguousarray(g.origin, dtype=np.float64))
         self._gravity = cuda.to_device(np.ascontiguousarray(scene.gravity, dtype=np.float64))
+        self._dry_node = cuda.to_device(DRY_NODE)  # every node of a dry scene: friction on the total stress
         self._prm = [cuda.to_device(m.prm) for m in scene.materials]
         self._laws = [cuda_loops.stress_kernel(type(m)) for m in scene.materials]
         self._dev: dict = {}
@@ -262,6 +263,8 @@ class CudaBackend(Backend):
         kern = cuda_loops.node_kernel(cls.node_rule, cls.node_scratch, slots, cls.node_maxima)
         v_old = view.g_vel_old if view.g_vel_old is not None else view.g_vel
         f = view.g_force if view.g_force is not None else view.g_vel
+        wet = view.g_pore is not None
+        pore = view.g_pore if wet else self._dry_node
         for f_box, l_box, counted in self.domain.node_parts(np.asarray(first), np.asarray(last)):
             b0 = np.minimum(np.maximum(f_box - view.lo, 0), view.nloc)
             bn = np.maximum(np.minimum(l_box - view.lo + 1, view.nloc) - b0, 0)
@@ -273,7 +276,7 @@ class CudaBackend(Backend):
             kern[K.blocks(total), K.THREADS](
                 cuda.to_device(np.ascontiguousarray(prm)), self._table(stage, "grid", aux), dt,
                 self._origin, self.scene.grid.h, lo, nloc, cuda.to_device(b0.astype(np.int64)),
-                cuda.to_device(bn.astype(np.int64)), total, view.g_mass, view.g_vel, v_old, f,
+                cuda.to_device(bn.astype(np.int64)), total, view.g_mass, view.g_vel, v_old, f, pore, wet,
                 out if counted else spill)
         stage.grid_reduced(self.joined(out.copy_to_host().reshape(1, slots), stage.node_reduction), dt, time, remap)
 

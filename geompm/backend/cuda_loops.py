@@ -71,7 +71,8 @@ def stress_kernel(prm, dt, p_L, p_rho, p_stress, p_state, rate):
 
 NODE = '''
 @cuda.jit
-def node_kernel(prm, aux, dt, origin, h, lo, nloc, b0, bn, total, g_mass, g_vel, g_vel_old, g_force, out):
+def node_kernel(prm, aux, dt, origin, h, lo, nloc, b0, bn, total, g_mass, g_vel, g_vel_old, g_force, g_pore, wet,
+                out):
     q = cuda.grid(1)
     if q >= total:
         return
@@ -91,7 +92,8 @@ def node_kernel(prm, aux, dt, origin, h, lo, nloc, b0, bn, total, g_mass, g_vel,
     for a in range(d - 1, -1, -1):
         x[a] = origin[a] + (lo[a] + rem % nloc[a]) * h
         rem //= nloc[a]
-    node_rule(prm, aux, dt, x[:d], m, g_vel[idx], g_vel_old[idx], g_force[idx], work[:{used}], acc)
+    node_rule(prm, aux, dt, x[:d], m, g_vel[idx], g_vel_old[idx], g_force[idx], g_pore[idx if wet else 0],
+              work[:{used}], acc)
 {flush}'''
 
 PARTICLE = '''

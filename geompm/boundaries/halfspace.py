@@ -15,7 +15,7 @@ from numba import njit
 
 from geompm.contract.layout import pack_in_layout, param_layout
 from geompm.contract.stages import NO_AUX, GridStage, ParticleStage
-from geompm.contact.rules import CONDITIONS, ON_SURFACE, apply_condition
+from geompm.contact.rules import CONDITIONS, ON_SURFACE, apply_condition, effective_mu
 
 #: packed parameters: a point on the surface [m] and the unit normal into the material (3 slots each,
 #: 2D uses the first two), the contact condition (contact.CONDITIONS), the Coulomb coefficient [-],
@@ -26,13 +26,13 @@ P0, N0 = HALFSPACE.point_x, HALFSPACE.normal_x
 
 
 @njit(cache=True, inline="always")
-def halfspace_node_rule(prm, aux, dt, x, m, v, v_old, f, work, out):
+def halfspace_node_rule(prm, aux, dt, x, m, v, v_old, f, pw, work, out):
     d = x.shape[0]
     dist = 0.0
     for a in range(d):
         dist += (x[a] - prm[P0 + a]) * prm[N0 + a]
     if dist <= prm[HALFSPACE.layer]:
-        apply_condition(v, prm, N0, int(prm[HALFSPACE.condition]), prm[HALFSPACE.mu])
+        apply_condition(v, prm, N0, int(prm[HALFSPACE.condition]), effective_mu(prm[HALFSPACE.mu], pw, prm, N0, d))
 
 
 @njit(cache=True, inline="always")

@@ -80,7 +80,7 @@ class SurfaceLoadParams(Params):
 
 
 @njit(cache=True, inline="always")
-def surface_load_rule(prm, aux, dt, x, m, v, v_old, f, work, out):
+def surface_load_rule(prm, aux, dt, x, m, v, v_old, f, pw, work, out):
     """The node's share of the load, aux[3 k : 3 k + 3] for its index k in the load's lattice, added to
     its force and, as dt f / m, to its velocity; out sums the applied force and its work f . v dt."""
     d = x.shape[0]

@@ -15,7 +15,7 @@ import math
 
 from numba import njit
 
-from geompm.contact.rules import apply_condition
+from geompm.contact.rules import apply_condition, effective_mu
 from geompm.contract.layout import param_layout
 from geompm.contact.sdf_field import nearest_point
 
@@ -33,9 +33,11 @@ FACES_GRID, FACES_GUARD = FORCE_SLOTS, DEPTH + 1
 
 
 @njit(cache=True, inline="always")
-def contact_and_record(v, w, n0, x0, b0, f0, prm, m, inv_dt, out):
+def contact_and_record(v, w, n0, x0, b0, f0, prm, m, inv_dt, pw, wet, out):
     """Apply the rule to the velocity v (d,), with w[n0:n0 + d] holding grad(phi) (normalised here, in
-    place), and record the force.
+    place), and record the force.  With ``wet`` the friction acts on the effective normal force of the
+    node's pore water ``pw`` (contact/rules.effective_mu); the particle guard passes False (a particle
+    carries no nodal pore water: its correction takes the total).
 
     ``w[x0:x0 + d]`` is the point in the obstacle's frame; its displacement
     prm[shift], so x + shift is where the force acts; w[b0:...], w[f0:...] are
@@ -55,7 +57,8 @@ def contact_and_record(v, w, n0, x0, b0, f0, prm, m, inv_dt, out):
         w[n0 + a] /= norm
         w[b0 + a] = v[a]
         v[a] -= prm[vel0 + a]
-    apply_condition(v, w, n0, int(prm[OBSTACLE.condition]), prm[OBSTACLE.mu])
+    mu = effective_mu(prm[OBSTACLE.mu], pw, w, n0, d) if wet else prm[OBSTACLE.mu]
+    apply_condition(v, w, n0, int(prm[OBSTACLE.condition]), mu)
     fn = 0.0
     for a in range(d):
         v[a] += prm[vel0 + a]

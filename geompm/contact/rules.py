@@ -13,6 +13,16 @@ pointing away from the surface into the material, v_n = v . n:
 - roller (3): the normal component is removed whatever its sign, the tangential
   part is free: a symmetry plane, or a smooth wall the material is bonded to, that
   holds tension as well as compression (an oedometer's ring under suction).
+
+Against saturated soil friction acts on the effective normal force (Terzaghi's principle at the
+contact; Iverson 1997, Rev. Geophys. 35:245): the tangential impulse is bounded by
+mu (N - p_b A) = mu (1 - lambda) N, with lambda = p_b / sigma_n the water's share of the normal
+force, from the node's pore pressure p_b and total normal stress sigma_n = -n . sigma n
+(compression positive) that the saturated scheme leaves on the node (contract/stages.NODE_PORE,
+schemes/saturated/kernels.node_pore_one): ``effective_mu``.  lambda is held in [0, 1]: a node whose
+water carries the whole normal stress (or more: liquefied, or no compression) slides freely, and
+suction (p_b < 0) adds no friction beyond the total stress's (docs/pore-water.md, Friction on
+effective stress).  A dry node's row is zeros: lambda = 0 and mu unchanged, to the bit.
 """
 
 import math
@@ -26,6 +36,23 @@ CONDITIONS = {"fixed": 0, "slip": 1, "friction": 2, "roller": 3}
 #: of nodes took the load (a hydrostatic plate took 1/8 of its load at the first step, and 10 % less
 #: on average, as its far face moved from x = 0.40 to 0.42 m)
 ON_SURFACE = 1e-9
+
+
+@njit(cache=True, inline="always")
+def effective_mu(mu, pw, normal, n0, d):
+    """mu (1 - lambda), lambda = p_b / sigma_n in [0, 1] for the unit normal normal[n0:n0 + d] and the
+    node's pore water ``pw`` (NODE_PORE)."""
+    p = pw[0]
+    if p <= 0.0:
+        return mu
+    n_x = normal[n0]
+    n_y = normal[n0 + 1]
+    n_z = normal[n0 + 2] if d == 3 else 0.0
+    s_n = -(n_x * n_x * pw[1] + n_y * n_y * pw[2] + n_z * n_z * pw[3]
+            + 2.0 * (n_x * n_y * pw[4] + n_y * n_z * pw[5] + n_x * n_z * pw[6]))
+    if s_n <= p:
+        return 0.0
+    return mu * (1.0 - p / s_n)
 
 
 @njit(cache=True, inline="always")

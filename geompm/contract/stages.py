@@ -145,14 +145,15 @@ class GridStage(Stage):
 
     Either a rule on one node (boundaries, obstacles, grid damping)::
 
-        node_rule(prm, aux, dt, x, m, v, v_old, f, work, out)
+        node_rule(prm, aux, dt, x, m, v, v_old, f, pw, work, out)
 
     ``prm`` the stage's packed parameters (float64, 1-D, contract/layout.py), ``aux`` its lookup
     table (a signed-distance lattice; any float64 array; read-only once handed to the backend,
     which may keep a copy on a device: to change it, hand a new array), ``x`` (d,) the node's position [m],
     ``m`` its mass [kg], ``v`` (d,) its velocity after the update [m/s], changed in place,
     ``v_old`` and ``f`` (d,) its velocity before the update [m/s] and its force [N] (defined only
-    when the stage declares ``needs_split_force``; otherwise aliases of ``v``), ``work``
+    when the stage declares ``needs_split_force``; otherwise aliases of ``v``), ``pw`` (7,) the node's
+    pore water (``NODE_PORE``: zeros in a dry scene; read only), ``work``
     (node_scratch,) float64 scratch, ``out`` (node_reduction,) this thread's accumulator.  The
     backend calls it on the nodes with mass (every one, or those in ``node_box``), in parallel: it
     must write only this node and ``out``, allocate nothing and call no Python.  The backend sums
@@ -234,5 +235,12 @@ class ParticleStage(Stage):
 
 #: the ``aux`` of a stage that has no lookup table
 NO_AUX = np.zeros(1)
+#: a node's pore water as a node rule sees it (``pw``): its pore pressure p_b and total stress (Voigt,
+#: kernels/voigt.py; tension positive) [Pa], the particles' volume-weighted averages around the node, that
+#: a scheme with pore water leaves on the grid (mpm/grid.GridView.g_pore); contact rules bound friction
+#: by the effective normal force with it (contact/rules.effective_mu)
+NODE_PORE = ("p", "s_xx", "s_yy", "s_zz", "s_xy", "s_yz", "s_xz")
+#: the one row every node of a dry scene shares: zeros, friction on the total stress
+DRY_NODE = np.zeros((1, len(NODE_PORE)))
 #: a node index beyond any grid (an open side of a ``node_box``)
 FAR_NODE = 1 << 40

@@ -35,7 +35,7 @@ class LocalParams(Params):
 
 
 @njit(cache=True, inline="always")
-def local_damping(prm, aux, dt, x, m, v, v_old, f, work, out):
+def local_damping(prm, aux, dt, x, m, v, v_old, f, pw, work, out):
     if m <= prm[LOCAL.mass_eps]:
         return
     alpha = prm[LOCAL.alpha]

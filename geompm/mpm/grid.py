@@ -46,6 +46,9 @@ class GridView:
     g_force: np.ndarray | None  # (nn, d) [N]; None when P2G folds the force into the momentum
     g_vel: np.ndarray  # (nn, d) updated velocity [m/s]
     g_vel_old: np.ndarray | None  # (nn, d) velocity before the update [m/s]; None when folded
+    #: (nn, 7) the nodes' pore water (contact/rules.NODE_PORE: pore pressure and total stress [Pa]) that a
+    #: scheme with pore water leaves for the contact rules' effective-stress friction; None in a dry scene
+    g_pore: np.ndarray | None = None
 
 
 class GridBuffers:

@@ -43,7 +43,7 @@ class ObstacleParams(Params):
 
 
 @njit(cache=True, inline="always")
-def obstacle_node_rule(prm, field, dt, x, m, v, v_old, f, work, out):
+def obstacle_node_rule(prm, field, dt, x, m, v, v_old, f, pw, work, out):
     """Contact on one node; ``field`` the contact lattice (points, 1 + d); out[0:d] force on the
     obstacle, out[d] f_n, out[d+1:2d+1] sum f_n n, out[2d+1:2d+4] moment (3 components).  ``work``
     holds, at offsets of d: the node in the obstacle's frame, the normal, two force scratch vectors,
@@ -62,7 +62,7 @@ def obstacle_node_rule(prm, field, dt, x, m, v, v_old, f, work, out):
         return
     for a in range(d):
         work[nrm + a] = work[val + 1 + a]
-    if contact_and_record(v, work, nrm, xf, bef, fo, prm, m, 1.0 / dt, out):
+    if contact_and_record(v, work, nrm, xf, bef, fo, prm, m, 1.0 / dt, pw, True, out):
         record_on_face(field, prm, work, base, frac, fo, d, FACES_GRID, out)
 
 

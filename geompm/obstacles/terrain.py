@@ -120,7 +120,7 @@ def record_on_dem_faces(prm, px, py, w, f0, slot0, out):
 
 
 @njit(cache=True, inline="always")
-def terrain_node_rule(prm, z, dt, x, m, v, v_old, f, work, out):
+def terrain_node_rule(prm, z, dt, x, m, v, v_old, f, pw, work, out):
     """Contact on one node; work: the node (0:3), the normal (3:6), two force scratch vectors (6:12)."""
     gap = x[2] - _height(z, prm, x[0], x[1])
     if gap * prm[T.cos_steepest] > prm[O_LAYER]:
@@ -130,7 +130,7 @@ def terrain_node_rule(prm, z, dt, x, m, v, v_old, f, work, out):
         return
     for a in range(3):
         work[a] = x[a]
-    if contact_and_record(v, work, 3, 0, 6, 9, prm, m, 1.0 / dt, out) and prm[T.faces] > 0.0:
+    if contact_and_record(v, work, 3, 0, 6, 9, prm, m, 1.0 / dt, pw, True, out) and prm[T.faces] > 0.0:
         record_on_dem_faces(prm, x[0], x[1], work, 9, FACES_GRID, out)
 
 
@@ -150,7 +150,7 @@ def terrain_guard_rule(prm, z, dt, k, x, x0, v, C, m, s, work, out):
             break
     for a in range(3):
         work[a] = x[a]
-    if contact_and_record(v, work, 3, 0, 6, 9, prm, m, 1.0 / dt, out):
+    if contact_and_record(v, work, 3, 0, 6, 9, prm, m, 1.0 / dt, work, False, out):
         out[COUNT] += 1.0
         if prm[T.faces] > 0.0:
             record_on_dem_faces(prm, x[0], x[1], work, 9, FACES_GUARD, out)

@@ -264,6 +264,16 @@ class PorePressureSpec(Strict):
         None, description="Height of the water table along the upward direction (against gravity) [m]; the "
         "particles above it start dry. Default: the body's top (fully saturated)")
     excess: float = Field(0.0, description="Uniform excess pore pressure at t = 0 [Pa], compression positive")
+    table_normal: Vector | None = Field(
+        None, description="Unit normal of a water table parallel to a slope, out of the ground (seepage parallel "
+        "to the slope: p = rho_w (-g . normal)(z_wt - x . normal), the infinite slope's flow net); 'water_table' "
+        "is then its height along this normal. Default: against gravity (a level table, hydrostatic)")
+
+    @model_validator(mode="after")
+    def _normal_not_zero(self):
+        if self.table_normal is not None and sum(v * v for v in self.table_normal) < 1e-12:
+            raise ValueError("'table_normal' must not be zero")
+        return self
 
 
 class BodySpec(Strict):

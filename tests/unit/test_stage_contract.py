@@ -21,7 +21,7 @@ from geompm.boundaries.halfspace import halfspace_node_rule, halfspace_particle_
 from geompm.boundaries.plane import Plane
 from geompm.engine.scheduler import Simulation
 from geompm.contract.registry import available
-from geompm.contract.stages import GridStage, ParticleStage
+from geompm.contract.stages import DRY_NODE, GridStage, ParticleStage
 
 
 def _case(extra_boundaries=(), damping=(), obstacles=()):
@@ -99,7 +99,7 @@ def test_a_stage_pass_allocates_nothing_per_item():
                 first, last = view.lo.copy(), view.lo + view.nloc - 1
                 last[0] = view.lo[0] + rows - 1
                 loop(prm, aux, 1e-5, g.origin, g.h, view.lo, view.nloc, first, last, view.g_mass,
-                     view.g_vel, v_old, f, work, out)
+                     view.g_vel, v_old, f, DRY_NODE, False, work, out)
             one(int(view.nloc[0]))
             full = int(view.nloc[0])
             assert _allocations(lambda: one(full // 2)) == _allocations(lambda: one(full)), stage.label
@@ -111,8 +111,8 @@ def test_a_stage_defined_in_a_function_runs_through_the_uncached_loop():
     """A plane whose rules are @njit functions made inside this test (not importable by name, so the
     backend compiles its loops in-process) gives the shipped plane's particle positions to the bit."""
     @njit(inline="always")
-    def my_node_rule(prm, aux, dt, x, m, v, v_old, f, work, out):
-        halfspace_node_rule(prm, aux, dt, x, m, v, v_old, f, work, out)
+    def my_node_rule(prm, aux, dt, x, m, v, v_old, f, pw, work, out):
+        halfspace_node_rule(prm, aux, dt, x, m, v, v_old, f, pw, work, out)
 
     @njit(inline="always")
     def my_particle_rule(prm, aux, dt, k, x, x0, v, C, m, s, work, out):
@@ -155,7 +155,7 @@ def test_the_node_box_only_skips_nodes_the_rule_leaves_alone():
         view.g_vel[:] = start
         loop = cpu_stage_loops.node_loop(type(wall).node_rule)
         loop(wall.prm, np.zeros(1), 1e-5, g.origin, g.h, view.lo, view.nloc, first, last, view.g_mass, view.g_vel,
-             view.g_vel, view.g_vel, np.zeros((2, 2 + type(wall).node_scratch)), np.zeros((2, 1)))
+             view.g_vel, view.g_vel, DRY_NODE, False, np.zeros((2, 2 + type(wall).node_scratch)), np.zeros((2, 1)))
         results.append(view.g_vel.copy())
     changed = (results[1] != start).any(axis=1)
     assert changed.sum() >= 5  # the wall acted on the nodes of its face (and beyond)
@@ -184,7 +184,7 @@ def test_obstacle_force_is_the_sum_of_the_threads_rows(threads):
         v = view.g_vel.copy()
         out = np.zeros((nc, type(box).node_reduction))
         loop(prm, aux, sim.dt, g.origin, g.h, view.lo, view.nloc, first, last, view.g_mass, v, v, v,
-             np.zeros((nc, 2 + type(box).node_scratch)), out)
+             DRY_NODE, False, np.zeros((nc, 2 + type(box).node_scratch)), out)
         rows.append(out.sum(axis=0))
     np.testing.assert_allclose(rows[1], rows[0], rtol=1e-12, atol=1e-12 * np.abs(rows[0]).max())
 

@@ -1,12 +1,12 @@
 """What the saturated scheme cannot run, and what it advises against (docs/pore-water.md, Limits).
 
 Refused, each with its JSON path and what to use instead: FLIP (the water's transfer follows the solid's
-affine matrix) and a stage that merges grid nodes (a periodic axis).  Warned: APIC or MLS above FLOW_CFL.
+affine matrix).  A periodic axis runs: the scheme folds its scatters onto the images (passes.fold).
+Warned: APIC or MLS above FLOW_CFL.
 """
 
 from __future__ import annotations
 
-from geompm.contract.stages import MERGE
 from geompm.kernels.stencil import AFFINE
 
 
@@ -32,7 +32,4 @@ def unsupported(case, loaded) -> list[tuple[str, str]]:
     why = "is not implemented for saturated materials (docs/pore-water.md, Limits)"
     if case.solver.transfer == "flip":
         out.append(("solver.transfer", f"'flip' {why}; use \"apic\", \"mls\" or \"pic\""))
-    for r in loaded.boundaries + loaded.obstacles + loaded.damping:
-        if r.cls.phase == MERGE:
-            out.append((r.path, f"'{r.cls.name}' merges grid nodes (a periodic axis), which {why}; use walls"))
     return out

@@ -23,6 +23,9 @@ class SaturatedCpu(SaturatedPasses):
     def _on_device(self, array):
         return np.ascontiguousarray(array, dtype=np.float64)
 
+    def _on_device_int(self, array):
+        return np.ascontiguousarray(array, dtype=np.int64)
+
     def _grid(self, cap):
         super()._grid(cap)
         self.c_w = np.zeros((self.nchunks, cap, WATER_WIDTH))  # the scatters' private grids, one per chunk
@@ -42,7 +45,7 @@ class SaturatedCpu(SaturatedPasses):
                        g.kind, lo, nloc, cpu.buffers.c_grid, True, 1.0, self.scene.apic_dinv, view.g_mass,
                        view.g_mom, view.g_force)
         cpu_scatter.water_p2g(cpu.tag, P.p_x, P.p_vw, P.p_Cw, self.affine, self.p_wmass, self.p_drag, P.p_vol, P.p_n,
-                              P.p_pore, P.p_sat, P.p_material, self.table, g.origin, g.h, g.kind, lo, nloc,
+                              P.p_pore, P.p_sat, P.p_material, self.table, self.p_total, g.origin, g.h, g.kind, lo, nloc,
                               self.c_w[:, :nn], self.g_w[:nn])
         cpu_scatter.sum_chunks(self.c_w[:, :nn], self.g_w[:nn])
 

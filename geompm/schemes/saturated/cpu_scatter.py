@@ -8,7 +8,7 @@ generated loops run (Backend.each).
 from numba import njit, prange
 
 from geompm.kernels.chunks import zero_rows
-from geompm.schemes.saturated.kernels import NODE_WATER, node_index, particle_stencil, water_scalars_one
+from geompm.schemes.saturated.kernels import NODE_WATER, PV, node_index, particle_stencil, water_scalars_one
 
 
 @njit(parallel=True, cache=True)
@@ -26,10 +26,11 @@ def sum_chunks(c_grid, out):
 
 @njit(parallel=True, cache=True)
 def water_p2g(tag, p_x, p_vw, p_Cw, affine, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material, table,
-              origin, h, kind, lo, nloc, c_grid, g_w):
+              p_total, origin, h, kind, lo, nloc, c_grid, g_w):
     """Scatter the water into the private grids c_grid, rows [m_w, m_w v_w (d), the water's internal force
-    sum V s n p grad N (d), c, V] (V the particles' volume, for the free-surface fill); sum_chunks adds them
-    into g_w.  With ``affine`` (the solid's transfer APIC or MLS) the water's momentum carries its affine
+    sum V s n p grad N (d), c, V, V s p, V sigma (6)] (V the particles' volume, for the free-surface fill;
+    p_total the total stress sigma, for the contact's pore water); sum_chunks adds them into g_w.  With
+    ``affine`` (the solid's transfer APIC or MLS) the water's momentum carries its affine
     matrix, m_w (v_w + C_w (x_I - x_p)), as the solid's does: a water transferred by PIC would damp the
     mixture's shear and rotation each step through the drag that binds the phases, and the mixture would
     flow as if it were PIC (measured in docs/pore-water.md)."""
@@ -46,7 +47,8 @@ def water_p2g(tag, p_x, p_vw, p_Cw, affine, p_wmass, p_drag, p_vol, p_n, p_pore,
         zero_rows(g, nn, width)
         for p in range(c * n // nchunks, (c + 1) * n // nchunks):
             b, wx, dx, wy, dy, wz, dz = particle_stencil(p_x, p, origin, kind, inv_h, d)
-            m, npv, drag, vol = water_scalars_one(p, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material, table)
+            m, npv, drag, vol, spv = water_scalars_one(p, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material,
+                                                       table)
             q0 = m * p_vw[p, 0]
             q1 = m * p_vw[p, 1]
             q2 = m * p_vw[p, 2] if d == 3 else 0.0
@@ -89,6 +91,10 @@ def water_p2g(tag, p_x, p_vw, p_Cw, affine, p_wmass, p_drag, p_vol, p_n, p_pore,
                             g[idx, NODE_WATER.mom_y] += wt * r1
                         g[idx, NODE_WATER.drag] += wt * drag
                         g[idx, NODE_WATER.volume] += wt * vol
+                        wv = wt * vol
+                        g[idx, PV] += wt * spv
+                        for q in range(6):
+                            g[idx, PV + 1 + q] += wv * p_total[p, q]
 
 
 @njit(parallel=True, cache=True)

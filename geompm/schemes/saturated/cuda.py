@@ -53,9 +53,10 @@ def speed_terms(p_v, p_vw, p_n, p_rho, p_sat, row, start, end, out):
 
 
 @cuda.jit
-def water_p2g(S, p_x, p_vw, p_Cw, affine, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material, table, origin,
-              h, kind, lo, nloc, g_w):
-    """The water onto the grid: rows [m_w, m_w (v_w + C_w (x_I - x_p)) (d), s n p V grad N (d), c, V] as
+def water_p2g(S, p_x, p_vw, p_Cw, affine, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material, table, p_total,
+              origin, h, kind, lo, nloc, g_w):
+    """The water onto the grid: rows [m_w, m_w (v_w + C_w (x_I - x_p)) (d), s n p V grad N (d), c, V, s p V,
+    sigma V (6)] as
     kernels.water_p2g; one thread per particle, every entry added with a global atomic."""
     p = cuda.grid(1)
     if p >= p_x.shape[0]:
@@ -65,7 +66,7 @@ def water_p2g(S, p_x, p_vw, p_Cw, affine, p_wmass, p_drag, p_vol, p_n, p_pore, p
     base, k = cuda.local.array(3, int64), cuda.local.array(3, int64)
     gw, dx = cuda.local.array(3, float64), cuda.local.array(3, float64)
     K._axes(p, p_x, origin, h, kind, w, dw, base)
-    m, npv, drag, vol = _water_scalars(p, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material, table)
+    m, npv, drag, vol, spv = _water_scalars(p, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material, table)
     for s in range(S ** d):
         idx, wt = K._node(s, S, d, base, lo, nloc, w, dw, k, gw)
         for a in range(d):
@@ -80,6 +81,9 @@ def water_p2g(S, p_x, p_vw, p_Cw, affine, p_wmass, p_drag, p_vol, p_n, p_pore, p
             cuda.atomic.add(g_w, (idx, tp.FORCE + a), npv * gw[a])
         cuda.atomic.add(g_w, (idx, tp.NODE_WATER.drag), wt * drag)
         cuda.atomic.add(g_w, (idx, tp.NODE_WATER.volume), wt * vol)
+        cuda.atomic.add(g_w, (idx, tp.PV), wt * spv)
+        for q in range(6):
+            cuda.atomic.add(g_w, (idx, tp.PV + 1 + q), wt * vol * p_total[p, q])
 
 
 @cuda.jit
@@ -122,6 +126,9 @@ class SaturatedCuda(SaturatedPasses):
     def _on_device(self, array):
         return cuda.to_device(np.ascontiguousarray(array, dtype=np.float64))
 
+    def _on_device_int(self, array):
+        return cuda.to_device(np.ascontiguousarray(array, dtype=np.int64))
+
     def particles(self):
         return SimpleNamespace(**self.be._device())
 
@@ -137,7 +144,8 @@ class SaturatedCuda(SaturatedPasses):
                                           be._origin, g.h, g.kind, lo, nloc, True, 1.0, self.scene.apic_dinv,
                                           view.g_mass, view.g_mom, view.g_force)
             water_p2g[K.blocks(n), K.THREADS](be.S, P.p_x, P.p_vw, P.p_Cw, self.affine, self.p_wmass, self.p_drag,
-                                              P.p_vol, P.p_n, P.p_pore, P.p_sat, P.p_material, self.table, be._origin,
+                                              P.p_vol, P.p_n, P.p_pore, P.p_sat, P.p_material, self.table, self.p_total,
+                                              be._origin,
                                               g.h, g.kind, lo, nloc, self.g_w[:nn])
 
     def _smooth_scatter(self, view, lo, nloc, P, p_val) -> None:

@@ -44,13 +44,17 @@ from geompm.kernels.shape import LINEAR, axis_stencil
 #: cavitation pressure [Pa, gauge]
 WATER = param_layout("rho_w", "k_w", "mu_w", "n0", "kappa0", "kozeny", "n_max", "p_cav")
 #: a node's row of the water's grid ``g_w`` (water_p2g): its mass [kg], momentum [kg m/s] and internal force
-#: sum V s n p grad N [N] per axis (z unused in 2D), the drag coefficient c = sum N D V [kg/s] and the
-#: particles' volume sum N V [m^d] (the free-surface fill)
-NODE_WATER = param_layout("mass", "mom_x", "mom_y", "mom_z", "force_x", "force_y", "force_z", "drag", "volume")
+#: sum V s n p grad N [N] per axis (z unused in 2D), the drag coefficient c = sum N D V [kg/s], the
+#: particles' volume sum N V [m^d] (the free-surface fill), and sum N V p and sum N V sigma (Voigt) of the
+#: acting pore pressure and total stress [Pa m^d] (the contact's pore water, node_pore_one)
+NODE_WATER = param_layout("mass", "mom_x", "mom_y", "mom_z", "force_x", "force_y", "force_z", "drag", "volume",
+                          "pv", "sv_xx", "sv_yy", "sv_zz", "sv_xy", "sv_yz", "sv_xz")
 #: the row's width, and the offsets of the per-axis columns: ``g_w[i, MOM + a]`` is the momentum along axis a
 WATER_WIDTH = len(NODE_WATER)
 MOM = NODE_WATER.mom_x
 FORCE = NODE_WATER.force_x
+PV = NODE_WATER.pv  # g_w[i, PV]: sum N V p; g_w[i, PV + 1 + k]: sum N V sigma_k
+
 #: a row of the water boundaries ``walls`` (schemes/saturated/setup.wall_row): a point of the wall's plane [m],
 #: its unit normal into the material, the layer [m] of nodes it binds, 1 for a drained wall (0 impermeable)
 WALL = param_layout("px", "py", "pz", "nx", "ny", "nz", "layer", "drained")
@@ -111,9 +115,20 @@ def node_index(b, lo, nloc, i, j, k, d):
 
 @njit(cache=True, inline="always")
 def water_scalars_one(p, p_wmass, p_drag, p_vol, p_n, p_pore, p_sat, p_material, table):
-    """Particle p's scalars in the water's P2G: (m_w, s n p V (its internal force per grad N), D V, V)."""
+    """Particle p's scalars in the water's P2G: (m_w, s n p V (its internal force per grad N), D V, V, s p V)."""
     row = table[p_material[p]]
-    return (p_wmass[p], wet(row, p_sat[p], p_n[p]) * p_n[p] * p_pore[p] * p_vol[p], p_drag[p], p_vol[p])
+    spv = wet(row, p_sat[p], p_n[p]) * p_pore[p] * p_vol[p]
+    return (p_wmass[p], p_n[p] * spv, p_drag[p], p_vol[p], spv)
+
+
+@njit(cache=True, inline="always")
+def node_pore_one(i, g_w, g_pore):
+    """Node i's pore water for the contact rules (contract/stages.NODE_PORE): the particles' volume-weighted
+    pore pressure and total stress around it, sum N V f / sum N V (0 where no particle reaches)."""
+    v = g_w[i, NODE_WATER.volume]
+    inv = 1.0 / v if v > 0.0 else 0.0
+    for k in range(7):
+        g_pore[i, k] = g_w[i, PV + k] * inv
 
 
 @njit(cache=True, inline="always")
@@ -482,3 +497,18 @@ def cavitation_one(p, p_pore, p_material, table):
     as the pores dilate and closes as they contract, so the pressure's work stays a function of the state and
     the health check's energy budget needs no term for it."""
     p_pore[p] = max(p_pore[p], table[p_material[p], WATER.p_cav])
+
+
+@njit(cache=True, inline="always")
+def fold_one(i, g_image, rows):
+    """Node i of a periodic grid: where it is a ghost (g_image[i] >= 0, the window index of its image) the
+    ghost's and the image's partial sums are added and both take the total, so every periodic copy of a
+    node holds the whole node (``rows``: (nn, width) sums of a scatter; a ghost has one image, an image one
+    ghost: the pairs are disjoint)."""
+    j = g_image[i]
+    if j < 0:
+        return
+    for a in range(rows.shape[1]):
+        t = rows[i, a] + rows[j, a]
+        rows[i, a] = t
+        rows[j, a] = t

@@ -3,7 +3,8 @@
     p2g: the acting pressure p = max(S p_carried, p_cav) (scatter, halo, smooth_node_one, smooth_gather_one,
          cavitation_one; without the smoothing acting_one), the total
          stress, water mass and drag (prepare_one), the solid's P2G on the total stress, the water's P2G, the
-         halo summed, the nodes' fill (node_fill_one) and the mixture (node_mixture_one)
+         halo summed, the nodes' fill (node_fill_one), the mixture (node_mixture_one) and the pore water the
+         contact rules' friction reads (node_pore_one, on the view: mpm/grid.GridView.g_pore)
     -> grid update (the mixture) -> stages before BOUNDARY
     -> snapshot: the relative velocity, drag implicit (node_snapshot_one) -> BOUNDARY and OBSTACLE stages
     -> split: solid and water velocities (node_split_one)
@@ -22,6 +23,8 @@ cuda.py.
 """
 
 from __future__ import annotations
+
+import numpy as np
 
 from geompm.kernels.stencil import AFFINE, stencil_tag
 from geompm.schemes.saturated import kernels as tp
@@ -45,12 +48,19 @@ class SaturatedPasses:
         self.cap = 0
         self.n = -1
         self._grid(1024)
+        #: the periodic axes (Stage.periodic_axes): every scatter is folded onto its images (fold_one)
+        self.periodic = sorted({a for st in self.scene.stages for a in st.periodic_axes()})
+        self._images = (None, None, None)  # (lo, nloc, the window's image table)
 
     # -- what a backend gives --------------------------------------------------------------------------
     def _zeros(self, shape):
         raise NotImplementedError
 
     def _on_device(self, array):
+        raise NotImplementedError
+
+    def _on_device_int(self, array):
+        """An int64 table where the kernels read it."""
         raise NotImplementedError
 
     def particles(self):
@@ -82,6 +92,7 @@ class SaturatedPasses:
         self.g_vw = self._zeros((cap, d))
         self.g_vpre = self._zeros((cap, d))
         self.g_fill = self._zeros(cap)
+        self.g_pore = self._zeros((cap, 7))
 
     def _particles(self, n):
         if n != self.n:
@@ -93,7 +104,8 @@ class SaturatedPasses:
             self.p_fill = self._zeros(n)
 
     def _arrays(self):
-        grid = (self.g_w, self.g_vp, self.g_p, self.g_rel, self.g_rel0, self.g_vw, self.g_vpre, self.g_fill)
+        grid = (self.g_w, self.g_vp, self.g_p, self.g_rel, self.g_rel0, self.g_vw, self.g_vpre, self.g_fill,
+                self.g_pore)
         parts = () if self.n < 0 else (self.p_total, self.p_wmass, self.p_drag, self.p_divw, self.p_divs,
                                        self.p_dp, self.p_dps, self.p_fill)
         return grid + parts
@@ -107,12 +119,44 @@ class SaturatedPasses:
             self._grid(int(nn * 1.25) + 64)
         return nn
 
+    # -- periodic axes ------------------------------------------------------------------------------------
+    def _image_table(self, view):
+        """g_image[i]: the window index of node i's periodic image where node i is a ghost (its global index
+        on a periodic axis outside 0..ncells-1: node i and i + ncells are one node), else -1; made on the
+        host once per window."""
+        lo, nloc, table = self._images
+        if lo is not None and np.array_equal(lo, view.lo) and np.array_equal(nloc, view.nloc):
+            return table
+        ncells = self.scene.grid.ncells
+        idx = np.indices(tuple(int(k) for k in view.nloc)).reshape(len(view.nloc), -1).T + np.asarray(view.lo)
+        image = idx.copy()
+        for a in self.periodic:
+            image[:, a] %= int(ncells[a])
+        ghost = (image != idx).any(axis=1)
+        local = image - np.asarray(view.lo)
+        inside = ((local >= 0) & (local < np.asarray(view.nloc))).all(axis=1)
+        flat = np.ravel_multi_index(tuple(np.clip(local, 0, np.asarray(view.nloc) - 1).T), tuple(view.nloc))
+        host = np.where(ghost & inside, flat, -1).astype(np.int64)
+        table = self._on_device_int(host)
+        self._images = (np.array(view.lo), np.array(view.nloc), table)
+        return table
+
+    def fold(self, view, arrays) -> None:
+        """Each (nn, width) array of sums folded over the periodic axes (nothing without one)."""
+        if not self.periodic:
+            return
+        table = self._image_table(view)
+        for rows in arrays:
+            if rows is not None:
+                self.be.each(tp.fold_one, view.g_mass.shape[0], table, rows)
+
     # -- the passes --------------------------------------------------------------------------------------
     def _smooth(self, view, lo, nloc, halo, P, p_val, p_out) -> None:
         """p_out = S p_val, the field seen through the grid."""
         g, nn = self.scene.grid, view.g_mass.shape[0]
         self._smooth_scatter(view, lo, nloc, P, p_val)
         halo((self.g_vp[:nn],))
+        self.fold(view, (self.g_vp[:nn],))
         self.be.each(tp.smooth_node_one, nn, self.g_vp[:nn], self.g_p[:nn])
         self.be.each(tp.smooth_gather_one, self.n, self.tag, P.p_x, P.p_drained, self.g_p[:nn], self._origin, g.h,
                      g.kind, lo, nloc, p_out)
@@ -134,9 +178,12 @@ class SaturatedPasses:
                 self.p_total, self.p_wmass, self.p_drag)
         self._scatter(view, lo, nloc, P)
         halo((view.g_mass, view.g_mom, view.g_force, self.g_w[:nn]))
+        self.fold(view, (view.g_mass.reshape(-1, 1), view.g_mom, view.g_force, self.g_w[:nn]))
         be.each(tp.node_fill_one, nn, self.g_w[:nn], self.walls, self._origin, g.h, lo, nloc,
                 g.h ** self.scene.dim, self.g_fill[:nn])
         be.each(tp.node_mixture_one, nn, view.g_mass, view.g_mom, self.g_w[:nn], be.mass_eps, self.g_rel[:nn])
+        be.each(tp.node_pore_one, nn, self.g_w[:nn], self.g_pore[:nn])
+        view.g_pore = self.g_pore[:nn]
 
     def snapshot(self, view, dt: float) -> None:
         """Once gravity, the loads and the damping have acted on the mixture: the relative velocity after

@@ -57,7 +57,8 @@ def skeleton_params(case, name: str, params):
 
 def body_water(body, pw: PoreWater, mid: int, pts: np.ndarray, h: float, ppc: int):
     """(saturated flag, water-table height [m], pore pressure [Pa]) of a body's particles; None for a
-    body of a dry material."""
+    body of a dry material.  Below a level table p = rho_w |g| depth; below one parallel to a slope
+    (``table_normal`` n) p = rho_w (-g . n) depth along n, seepage parallel to the slope."""
     if not pw.wet[mid]:
         return None
     spec = body.pore_pressure
@@ -65,12 +66,17 @@ def body_water(body, pw: PoreWater, mid: int, pts: np.ndarray, h: float, ppc: in
     if pw.up is None:  # no gravity: saturated throughout, the uniform excess only
         excess = 0.0 if spec is None else spec.excess
         return np.ones(n), np.zeros(n), np.full(n, excess)
-    height = pts @ pw.up
+    up, g_normal = pw.up, pw.g  # the table's normal and gravity's component against it
+    if spec is not None and spec.table_normal is not None:
+        up = np.asarray(spec.table_normal[:len(pw.up)], float)
+        up = up / np.linalg.norm(up)
+        g_normal = pw.g * float(up @ pw.up)
+    height = pts @ up
     top = float(height.max()) + 0.5 * h / ppc if n else 0.0
     table = top if spec is None or spec.water_table is None else spec.water_table
     sat = (height <= table + 1e-9 * h).astype(float)
     excess = 0.0 if spec is None else spec.excess
-    hydrostatic = pw.table[mid, WATER.rho_w] * pw.g * np.maximum(table - height, 0.0)
+    hydrostatic = pw.table[mid, WATER.rho_w] * g_normal * np.maximum(table - height, 0.0)
     return sat, np.full(n, table), sat * (excess + hydrostatic)
 
 
