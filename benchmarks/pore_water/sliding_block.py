@@ -18,7 +18,7 @@ from geompm.testing.verification import sliding_block as sb
 
 SIZES = (0.05, 0.025, 0.0125)
 #: the excess that makes lambda = 0.7 at the base
-EXCESS = (0.7 - sb.block_lambda(0.0)) * sb.RHO_SAT * sb.G * 0.9063077870366499 * sb.HEIGHT
+EXCESS = sb.excess_for(0.7)
 
 
 def main() -> None:

@@ -15,7 +15,7 @@ from geompm.testing.verification import sliding_block as sb
 pytestmark = pytest.mark.slow
 
 #: the excess pore pressure [Pa] that makes the base's lambda 0.7
-EXCESS = (0.7 - sb.block_lambda(0.0)) * sb.RHO_SAT * sb.G * 0.9063077870366499 * sb.HEIGHT
+EXCESS = sb.excess_for(0.7)
 
 
 def test_the_dry_layer_stands_on_the_25_degree_plane():

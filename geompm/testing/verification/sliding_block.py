@@ -37,6 +37,11 @@ def block_lambda(excess: float = 0.0) -> float:
     return (RHO_W * G * math.cos(math.radians(BETA)) * HEIGHT + excess) / normal
 
 
+def excess_for(lam: float) -> float:
+    """The uniform excess pore pressure [Pa] that makes the base's ratio ``lam`` (block_lambda inverted)."""
+    return (lam - block_lambda(0.0)) * RHO_SAT * G * math.cos(math.radians(BETA)) * HEIGHT
+
+
 def closed_form(lam: float) -> float:
     """a = g (sin beta - (1 - lambda) mu cos beta) [m/s2], 0 where the block stands."""
     b = math.radians(BETA)
@@ -45,7 +50,8 @@ def closed_form(lam: float) -> float:
 
 def block_case(h: float, saturated: bool = True, excess: float = 0.0, end: float = 0.4,
                shape: str = "quadratic", transfer: str | None = None, periodic: bool = True) -> dict:
-    """The block at cell size h: L = 1 m, H = 0.2 m, E = 10 MPa, nu = 0.3, n = 0.4, rho_s = 2650 kg/m3 (its
+    """The block at cell size h: H = 0.2 m, the whole 2 m period long with ``periodic`` (the infinite slope's
+    layer), else L = 1 m with free ends, E = 10 MPa, nu = 0.3, n = 0.4, rho_s = 2650 kg/m3 (its
     dry twin has the same mass per volume as the saturated block's skeleton plus water: rho_sat), k = 1e-8
     m/s, K_w = 2.2e7 Pa (reduced: the block's volume hardly changes, and the step is the undrained wave's),
     geostatic on the plane, the table at its top and parallel to it."""
