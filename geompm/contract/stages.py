@@ -124,6 +124,18 @@ class Stage(Plugin):
         relative flow across it (docs/pore-water.md)."""
         return None
 
+    def drained_layer(self):
+        """For a rigid solid that lets pore water through (a drained obstacle: a permeable or slit dam): the
+        layer [m] outside its surface within which its contact acts, where the water keeps its velocity
+        relative to the held grains and leaves (schemes/saturated/solids.py); None for every other stage
+        (an impermeable solid counts as filled for the saturated soil's free surface)."""
+        return None
+
+    def node_box(self, time: float):
+        """(first, last) global node indices (d,) int64, inclusive, outside which the stage's rule
+        changes nothing at ``time``, or None for every node (the backend may skip the nodes outside)."""
+        return None
+
     def periodic_axes(self) -> tuple[int, ...]:
         """The axes along which the stage makes the grid periodic (a slab decomposition cannot cut along
         them, parallel/partition.py); () for every other stage."""
@@ -185,11 +197,6 @@ class GridStage(Stage):
         """(prm, aux) for this pass, or None to skip it.  ``remap`` is True when the scheduler
         re-applies the conditions to the MUSL re-mapped velocities."""
         raise NotImplementedError
-
-    def node_box(self, time: float):
-        """(first, last) global node indices (d,) int64, inclusive, outside which the rule changes
-        nothing at ``time``, or None for every node (the backend may skip the nodes outside)."""
-        return None
 
     def grid_reduced(self, out, dt: float, time: float, remap: bool) -> None:
         """The pass's accumulator rows (threads, node_reduction), on the host (reused by the next pass)."""

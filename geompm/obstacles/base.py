@@ -40,6 +40,10 @@ class ObstacleParams(Params):
         0.0, ge=0.0, description="Nodes with signed distance <= this [m] are in contact (0: on or inside)")
     moment_point: list[float] | None = Field(None, description="Reference point of the moment [m]; default the "
                                                                "centre of the obstacle's bounding box")
+    drainage: Literal["impermeable", "drained"] = Field(
+        "impermeable", description="For saturated soil: 'impermeable' keeps the pore pressure against the obstacle "
+                                   "(it counts as filled for the free surface); 'drained' (a permeable or slit dam) "
+                                   "lets the water leave through it, p = 0 at its face (docs/pore-water.md)")
 
 
 @njit(cache=True, inline="always")
@@ -89,7 +93,14 @@ class RigidObstacle(ContactForceStage):
 
     @classmethod
     def check(cls, params, case):
-        return vector_length_problems(params, case, ("velocity", "moment_point"))
+        problems = vector_length_problems(params, case, ("velocity", "moment_point"))
+        if params.drainage == "drained" and not any(m.pore_water is not None for m in case.materials.values()):
+            problems.append(("drainage", "a drained obstacle lets pore water through, but no material of the case "
+                                         "has pore_water: remove 'drainage' (or give a material pore_water)"))
+        return problems
+
+    def drained_layer(self):
+        return self.params.contact_layer if self.params.drainage == "drained" else None
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         raise NotImplementedError

@@ -2,7 +2,7 @@
 
 Refused, each with its JSON path: a fluid law with pore water (a fluid has no skeleton whose effective
 stress the water could share); neither or both of hydraulic_conductivity and intrinsic_permeability; a
-body's ``pore_pressure`` on a dry material; a water table without gravity or above the grid.  What the
+body's ``pore_pressure`` on a dry material; a fluid body beside saturated soil (the two waters do not mix); a water table without gravity or above the grid.  What the
 saturated step itself cannot run (FLIP, periodic axes) is the scheme's check (schemes/saturated/checks.py).
 """
 
@@ -34,6 +34,15 @@ def pore_water_problems(case, loaded) -> list[tuple[str, str]]:
             out.append((path, f"'{r.cls.name}' is a fluid law: it has no grain skeleton to share the load with "
                               "pore water. Saturate a soil law (drucker_prager, mohr_coulomb, linear_elastic, "
                               "mu_i, ...) or model the mixture as one equivalent fluid without 'pore_water'"))
+    if wet:
+        fluid_bodies = [i for i, b in enumerate(case.bodies)
+                        if loaded.materials.get(b.material) is not None and loaded.materials[b.material].cls.fluid]
+        for i in fluid_bodies:
+            out.append((f"bodies.{i}.material",
+                        f"'{case.bodies[i].material}' is a fluid and the case has saturated soil: a fluid body would "
+                        "meet the saturated one as a dry material, its water never entering the pores nor the pores' "
+                        "water leaving into it (not modelled). Put the water in the soil's pore_water (a saturated "
+                        "debris) or run the fluid with dry soil"))
     up = _up(case.gravity)
     corners = np.array(np.meshgrid(*[(o, o + e) for o, e in zip(case.grid.origin, case.grid.extent)]))
     corners = corners.reshape(len(case.grid.origin), -1).T

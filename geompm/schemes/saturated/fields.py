@@ -41,6 +41,7 @@ class PoreWater:
     up: np.ndarray | None = None  # unit vector against gravity, None without gravity
     g: float = 0.0  # |gravity| [m/s2]
     smoothing: bool = True  # the pore pressure seen through the grid each step (kernels.smooth_gather)
+    solids: object = None  # the rigid solids' node fill (solids.SolidFill), made once the stages are set up
 
     def hydrostatic(self, st) -> np.ndarray:
         """Each particle's hydrostatic pore pressure rho_w |g| (z_wt - z) below its body's water table at its

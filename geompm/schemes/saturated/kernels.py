@@ -240,16 +240,17 @@ def one_node_fill(i, g_w, walls, origin, h, lo, nloc, d, cell_volume):
 
 
 @njit(cache=True, inline="always")
-def node_fill_one(i, g_w, walls, origin, h, lo, nloc, cell_volume, g_fill):
+def node_fill_one(i, g_w, g_solid, walls, origin, h, lo, nloc, cell_volume, g_fill):
     """Node i's fill: the particles' volume fraction, with the body mirrored in every impermeable wall
-    (and in each pair of them, for corners), so that a wall is not taken for a free surface while the
+    (and in each pair of them, for corners) and the impermeable rigid solids' volume fraction g_solid[i, 0]
+    (solids.py) added, so that a wall, an obstacle or the terrain is not taken for a free surface while the
     body's real free surface still is (docs/pore-water.md, Free surface)."""
-    g_fill[i] = one_node_fill(i, g_w, walls, origin, h, lo, nloc, len(lo), cell_volume)
+    g_fill[i] = one_node_fill(i, g_w, walls, origin, h, lo, nloc, len(lo), cell_volume) + g_solid[i, 0]
 
 
 @njit(cache=True, inline="always")
-def node_split_one(i, g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, walls, origin, h, lo, nloc, gravity, dt, mass_eps,
-                   g_vw):
+def node_split_one(i, g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, g_solid, walls, origin, h, lo, nloc, gravity, dt,
+                   mass_eps, g_vw):
     """Node i: solid and water velocities from the mixture's after the stages (g_vel, in place -> the solid's;
     g_vw <- the water's).
 
@@ -258,8 +259,10 @@ def node_split_one(i, g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, walls, origin, 
     drained wall's node the wall's rule binds the solid and the water crosses freely, its normal relative
     velocity advanced against the held solid, w_n' (m_w + dt c) = m_w w_n + dt (F_w + m_w g)_n (the
     mixture's acceleration there is the wall's to stop, not the water's); at a node that a stage changed
-    elsewhere (an obstacle) both phases take the stage's velocity. g_rel0: the relative velocity before
-    the step.
+    elsewhere (an obstacle) both phases take the stage's velocity, except on or inside an impermeable rigid
+    solid (g_solid[i, 2:5] its normal, solids.py), where w loses its normal part as at an impermeable wall,
+    and at a drained solid's contact node (g_solid[i, 1] = 1: a permeable dam), where the grains take the
+    stage's velocity and the water keeps its velocity relative to them. g_rel0: the relative velocity before the step.
     """
     d = g_vel.shape[1]
     nw = walls.shape[0]
@@ -299,12 +302,22 @@ def node_split_one(i, g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, walls, origin, 
                 w0 -= wn * walls[k, WALL.nx]
                 w1 -= wn * walls[k, WALL.ny]
                 w2 -= wn * walls[k, WALL.nz]
+    sn0, sn1, sn2 = g_solid[i, 2], g_solid[i, 3], g_solid[i, 4]
+    if sn0 != 0.0 or sn1 != 0.0 or sn2 != 0.0:  # on or inside an impermeable solid: no flow across it
+        bound = True
+        wn = w0 * sn0 + w1 * sn1 + w2 * sn2
+        w0 -= wn * sn0
+        w1 -= wn * sn1
+        w2 -= wn * sn2
     changed = False
     for a in range(d):
         if g_vel[i, a] != g_vpre[i, a]:
             changed = True
     if changed and not bound:
-        w0 = w1 = w2 = 0.0
+        if g_solid[i, 1] > 0.0:
+            drained = True  # a permeable solid holds the grains at its velocity; the water keeps w
+        else:
+            w0 = w1 = w2 = 0.0
     mw = g_w[i, NODE_WATER.mass]
     fw = mw / big
     fs = 1.0 - fw

@@ -28,6 +28,7 @@ import numpy as np
 
 from geompm.kernels.stencil import AFFINE, stencil_tag
 from geompm.schemes.saturated import kernels as tp
+from geompm.schemes.saturated.solids import WIDTH
 
 
 class SaturatedPasses:
@@ -51,6 +52,8 @@ class SaturatedPasses:
         #: the periodic axes (Stage.periodic_axes): every scatter is folded onto its images (fold_one)
         self.periodic = sorted({a for st in self.scene.stages for a in st.periodic_axes()})
         self._images = (None, None, None)  # (lo, nloc, the window's image table)
+        self._no_solid = None  # zeros (cap, 2) for a scene without a rigid solid
+        self._solid_host = self._solid = self.g_solid = None
 
     # -- what a backend gives --------------------------------------------------------------------------
     def _zeros(self, shape):
@@ -161,9 +164,23 @@ class SaturatedPasses:
         self.be.each(tp.smooth_gather_one, self.n, self.tag, P.p_x, P.p_drained, self.g_p[:nn], self._origin, g.h,
                      g.kind, lo, nloc, p_out)
 
-    def p2g(self, view, halo) -> None:
+    def _solids(self, view, lo, nloc, time):
+        """The rigid solids' rows of the window's nodes (nn, solids.WIDTH): fill, drained contact mark,
+        impermeable surface's normal (solids.SolidFill; zeros without a solid), where the kernels read it."""
+        nn = view.g_mass.shape[0]
+        solids = self.pw.solids
+        if not solids:
+            if self._no_solid is None or self._no_solid.shape[0] < nn:
+                self._no_solid = self._zeros((self.cap, WIDTH))
+            return self._no_solid[:nn]
+        rows = solids.window(view.lo, view.nloc, time)
+        if rows is not self._solid_host:
+            self._solid_host, self._solid = rows, self._on_device(rows)
+        return self._solid
+
+    def p2g(self, view, halo, time: float) -> None:
         """Both phases onto the grid; leaves the mixture on the view (mass, momentum, internal force), the
-        relative velocity w in g_rel and the nodes' fill."""
+        relative velocity w in g_rel and the nodes' fill (the rigid solids' share added)."""
         be, g = self.be, self.scene.grid
         P = self.particles()
         self._particles(self.be.state.n)
@@ -179,7 +196,8 @@ class SaturatedPasses:
         self._scatter(view, lo, nloc, P)
         halo((view.g_mass, view.g_mom, view.g_force, self.g_w[:nn]))
         self.fold(view, (view.g_mass.reshape(-1, 1), view.g_mom, view.g_force, self.g_w[:nn]))
-        be.each(tp.node_fill_one, nn, self.g_w[:nn], self.walls, self._origin, g.h, lo, nloc,
+        self.g_solid = self._solids(view, lo, nloc, time)
+        be.each(tp.node_fill_one, nn, self.g_w[:nn], self.g_solid, self.walls, self._origin, g.h, lo, nloc,
                 g.h ** self.scene.dim, self.g_fill[:nn])
         be.each(tp.node_mixture_one, nn, view.g_mass, view.g_mom, self.g_w[:nn], be.mass_eps, self.g_rel[:nn])
         be.each(tp.node_pore_one, nn, self.g_w[:nn], self.g_pore[:nn])
@@ -196,7 +214,7 @@ class SaturatedPasses:
         g, nn = self.scene.grid, view.g_vel.shape[0]
         lo, nloc = self.window_index(view)
         self.be.each(tp.node_split_one, nn, view.g_mass, view.g_vel, self.g_vpre[:nn], self.g_w[:nn],
-                     self.g_rel[:nn], self.g_rel0[:nn], self.walls, self._origin, g.h, lo, nloc, self.gravity, dt,
+                     self.g_rel[:nn], self.g_rel0[:nn], self.g_solid, self.walls, self._origin, g.h, lo, nloc, self.gravity, dt,
                      self.be.mass_eps, self.g_vw[:nn])
 
     def water_g2p(self, view, dt: float, halo) -> None:

@@ -4,7 +4,8 @@ Bandara & Soga 2015, Computers and Geotechnics 63:199).
 One step, the grid holding the mixture while the stages act, then the solid and the water taking their own
 velocities (the passes: schemes/saturated/cpu.py and cuda.py around the per-item functions of kernels.py):
 
-    window -> p2g (pressure smoothed, total stress, both phases, halo summed, fill, mixture)
+    window -> p2g (pressure smoothed, total stress, both phases, halo summed, fill with the rigid solids'
+    share (solids.py), mixture)
     -> grid update (the mixture, + gravity) -> grid stages before BOUNDARY (loads, damping)
     -> snapshot (relative velocity, drag implicit) -> BOUNDARY and OBSTACLE stages
     -> split (solid and water velocities, walls' water rules) -> water G2P and the pressure's increment
@@ -26,6 +27,7 @@ from geompm.schemes.base import Scheme
 from geompm.schemes.saturated import checks, setup
 from geompm.schemes.saturated.fields import FIELDS
 from geompm.schemes.saturated.kernels import WALL, WATER
+from geompm.schemes.saturated.solids import SolidFill
 
 #: the backend's passes of the scheme, by backend name (imported when a backend of that name asks)
 BACKEND_PASSES = {"cpu": ("geompm.schemes.saturated.cpu", "SaturatedCpu"),
@@ -73,6 +75,7 @@ class Saturated(Scheme):
     def after_stages(self, scene) -> None:
         rows = [setup.wall_row(s.water_boundary()) for s in scene.stages if s.water_boundary() is not None]
         self.water.walls = np.array(rows).reshape(-1, len(WALL))
+        self.water.solids = SolidFill(scene)
 
     def backend_passes(self, backend):
         import importlib
@@ -88,7 +91,7 @@ class Saturated(Scheme):
     def two_phase_p2g(self, run, dt: float) -> None:
         """Both phases onto the grid (the pressure smoothed, the total stress, the halo summed), the nodes'
         fill and the mixture."""
-        run.backend.scheme_passes.p2g(run.view, run.halo)
+        run.backend.scheme_passes.p2g(run.view, run.halo, run.time)
 
     def loads_and_damping(self, run, dt: float) -> None:
         """The grid stages before BOUNDARY, acting on the mixture."""
