@@ -18,7 +18,7 @@ from pathlib import Path
 from geompm.schemes.saturated import solids
 from geompm.testing.verification import solid_layers as sl
 
-SIZES = {"box2d": (0.1, 0.05, 0.025), "stl3d": (0.1, 0.05, 0.04), "terrain3d": (0.1, 0.05, 0.04),
+SIZES = {"box2d": (0.1, 0.05, 0.025), "stl3d": (0.1, 0.05, 0.04), "terrain3d": (0.1, 0.05, 0.025),
          "incline3d": (0.1, 0.05, 0.04), "plane3d": (0.1, 0.05, 0.04)}
 
 

@@ -13,6 +13,7 @@ import numpy as np
 
 from geompm.schemes.base import Field
 from geompm.schemes.saturated.kernels import WATER
+from geompm.schemes.saturated.surface import column_surface
 
 
 FIELDS = (
@@ -26,8 +27,9 @@ FIELDS = (
                                 "at the free surface or a drained boundary), else 0"),
     Field("p_n", "", "-", "porosity"),
     Field("p_sat", "", "-", "1 for a saturated particle, 0 for a dry one"),
-    Field("p_wt", "", "m", "height of its body's water table along the upward direction (the hydrostatic "
-                           "reference of the excess pore pressure)"),
+    Field("p_wt", "", "m", "height of its body's water table along the upward direction at set-up"),
+    Field("p_wt_depth", "", "m", "depth of its body's water table below its column's free surface at set-up (the "
+                                 "hydrostatic reference follows the flow's own surface: surface.py)"),
 )
 
 
@@ -42,14 +44,28 @@ class PoreWater:
     g: float = 0.0  # |gravity| [m/s2]
     smoothing: bool = True  # the pore pressure seen through the grid each step (kernels.smooth_gather)
     solids: object = None  # the rigid solids' node fill (solids.SolidFill), made once the stages are set up
+    grid: tuple = ()  # (origin, extent, cell size) of the grid [m]: the free surface's columns (surface.py)
 
-    def hydrostatic(self, st) -> np.ndarray:
-        """Each particle's hydrostatic pore pressure rho_w |g| (z_wt - z) below its body's water table at its
-        current height [Pa], 0 for dry particles."""
+    def surface(self, st, comm_max=None) -> np.ndarray:
+        """Each particle's column's free surface z_s [m] along the upward direction (surface.py)."""
+        origin, extent, h = self.grid
+        return column_surface(st.p_x, st.p_vol0 ** (1.0 / st.p_x.shape[1]), self.up, origin, extent, h, comm_max)
+
+    def table_depth(self, st) -> np.ndarray:
+        """At set-up: the depth of each saturated particle's water table below its column's free surface [m]."""
         if self.up is None:
             return np.zeros(st.n)
-        return st.p_sat * self.table[st.p_material, WATER.rho_w] * self.g * np.maximum(st.p_wt - st.p_x @ self.up, 0.0)
+        return st.p_sat * np.maximum(self.surface(st) - st.p_wt, 0.0)
 
-    def excess(self, st) -> np.ndarray:
-        """Excess pore pressure p - p_hydrostatic [Pa] per particle."""
-        return st.p_pore - self.hydrostatic(st)
+    def hydrostatic(self, st, comm_max=None) -> np.ndarray:
+        """Each particle's hydrostatic pore pressure rho_w |g| max(0, z_s - d_wt - z) [Pa], z_s its column's
+        free surface now and d_wt its table's depth below it at set-up (surface.py); 0 for dry particles."""
+        if self.up is None:
+            return np.zeros(st.n)
+        level = self.surface(st, comm_max) - st.p_wt_depth
+        return st.p_sat * self.table[st.p_material, WATER.rho_w] * self.g * np.maximum(level - st.p_x @ self.up, 0.0)
+
+    def excess(self, st, comm_max=None) -> np.ndarray:
+        """Excess pore pressure p - p_hydrostatic [Pa] per particle; ``comm_max``: the columns' surfaces
+        over every rank."""
+        return st.p_pore - self.hydrostatic(st, comm_max)

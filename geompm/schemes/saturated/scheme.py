@@ -71,6 +71,7 @@ class Saturated(Scheme):
         state.p_vw = state.p_v.copy()
         state.p_Cw = np.zeros_like(state.p_C)
         state.p_n = self.water.table[state.p_material, WATER.n0].copy()
+        state.p_wt_depth = self.water.table_depth(state)
 
     def after_stages(self, scene) -> None:
         rows = [setup.wall_row(s.water_boundary()) for s in scene.stages if s.water_boundary() is not None]
@@ -127,7 +128,7 @@ class Saturated(Scheme):
         """``max_excess_pore_pressure`` [Pa] over the particles of every rank, and per body
         (``..._body<b>``) where a scene has more than one (docs/pore-water.md)."""
         st, sc, top = run.state, run.scene, run.domain.comm.max
-        excess = self.water.excess(st)
+        excess = self.water.excess(st, top)
         nb = len(sc.body_materials)
         row = np.full(1 + (nb if nb > 1 else 0), -np.inf)
         if st.n:

@@ -41,7 +41,9 @@ def material_table(case, names) -> PoreWater | None:
     g = np.asarray(case.gravity, float)
     norm = float(np.linalg.norm(g))
     return PoreWater(table=table, wet=[s is not None for s in specs], up=None if norm == 0.0 else -g / norm,
-                     g=norm, smoothing=case.solver.pore_pressure_smoothing)
+                     g=norm, smoothing=case.solver.pore_pressure_smoothing,
+                     grid=(np.asarray(case.grid.origin, float), np.asarray(case.grid.extent, float),
+                           float(case.grid.cell_size)))
 
 
 def skeleton_params(case, name: str, params):
