@@ -269,10 +269,18 @@ class PorePressureSpec(Strict):
         "to the slope: p = rho_w (-g . normal)(z_wt - x . normal), the infinite slope's flow net); 'water_table' "
         "is then its height along this normal. Default: against gravity (a level table, hydrostatic)")
 
+    hydrostatic: bool = Field(
+        True, description="false: the body is saturated throughout at the uniform 'excess' only, its water carrying "
+        "no weight at t = 0 (a bed wetted to saturation from above, tensiometers reading p near 0); then "
+        "'water_table' and 'table_normal' do not apply")
+
     @model_validator(mode="after")
     def _normal_not_zero(self):
         if self.table_normal is not None and sum(v * v for v in self.table_normal) < 1e-12:
             raise ValueError("'table_normal' must not be zero")
+        if not self.hydrostatic and (self.water_table is not None or self.table_normal is not None):
+            raise ValueError("'hydrostatic': false saturates the whole body at the uniform 'excess'; remove "
+                             "'water_table' and 'table_normal' (or set 'hydrostatic' true)")
         return self
 
 

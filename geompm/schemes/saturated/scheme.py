@@ -41,7 +41,7 @@ class Saturated(Scheme):
     default = True
     split_force = True
     fields = FIELDS
-    body_width = 3  # saturated flag, water-table height, pore pressure (setup.body_water)
+    body_width = 4  # saturated flag, water-table height, pore pressure, buoyant flag (setup.body_water)
 
     @classmethod
     def problems(cls, case, loaded):
@@ -62,10 +62,10 @@ class Saturated(Scheme):
         return setup.body_water(body, self.water, mid, pts, h, ppc)
 
     def overburden_mass(self, p_mass, p_vol, p_material, arrays):
-        return setup.buoyant_mass(p_mass, p_vol, p_material, arrays[0], self.water)
+        return setup.buoyant_mass(p_mass, p_vol, p_material, arrays[0], arrays[3], self.water)
 
     def init_fields(self, state, arrays) -> None:
-        state.p_sat, state.p_wt, state.p_pore = (np.ascontiguousarray(a) for a in arrays)
+        state.p_sat, state.p_wt, state.p_pore = (np.ascontiguousarray(a) for a in arrays[:3])
         state.p_pore_carried = state.p_pore.copy()
         state.p_drained = 1.0 - state.p_sat
         state.p_vw = state.p_v.copy()

@@ -58,16 +58,19 @@ def skeleton_params(case, name: str, params):
 
 
 def body_water(body, pw: PoreWater, mid: int, pts: np.ndarray, h: float, ppc: int):
-    """(saturated flag, water-table height [m], pore pressure [Pa]) of a body's particles; None for a
-    body of a dry material.  Below a level table p = rho_w |g| depth; below one parallel to a slope
-    (``table_normal`` n) p = rho_w (-g . n) depth along n, seepage parallel to the slope."""
+    """(saturated flag, water-table height [m], pore pressure [Pa], buoyant flag: 1 where the water carries
+    its own weight at t = 0, so that the geostatic overburden weighs the particle buoyant) of a body's
+    particles; None for a body of a dry material.  Below a level table p = rho_w |g| depth; below one parallel to a slope
+    (``table_normal`` n) p = rho_w (-g . n) depth along n, seepage parallel to the slope; with
+    ``hydrostatic`` false (or no gravity) saturated throughout at the uniform excess."""
     if not pw.wet[mid]:
         return None
     spec = body.pore_pressure
     n = len(pts)
-    if pw.up is None:  # no gravity: saturated throughout, the uniform excess only
+    if pw.up is None or (spec is not None and not spec.hydrostatic):  # saturated throughout, the excess only
         excess = 0.0 if spec is None else spec.excess
-        return np.ones(n), np.zeros(n), np.full(n, excess)
+        top = float((pts @ pw.up).max()) + 0.5 * h / ppc if pw.up is not None and n else 0.0
+        return np.ones(n), np.full(n, top), np.full(n, excess), np.zeros(n)
     up, g_normal = pw.up, pw.g  # the table's normal and gravity's component against it
     if spec is not None and spec.table_normal is not None:
         up = np.asarray(spec.table_normal[:len(pw.up)], float)
@@ -79,14 +82,16 @@ def body_water(body, pw: PoreWater, mid: int, pts: np.ndarray, h: float, ppc: in
     sat = (height <= table + 1e-9 * h).astype(float)
     excess = 0.0 if spec is None else spec.excess
     hydrostatic = pw.table[mid, WATER.rho_w] * g_normal * np.maximum(table - height, 0.0)
-    return sat, np.full(n, table), sat * (excess + hydrostatic)
+    return sat, np.full(n, table), sat * (excess + hydrostatic), np.ones(n)
 
 
-def buoyant_mass(p_mass, p_vol, p_material, p_sat, pw: PoreWater) -> np.ndarray:
+def buoyant_mass(p_mass, p_vol, p_material, p_sat, p_buoyant, pw: PoreWater) -> np.ndarray:
     """Each particle's weight in the overburden of geostatic effective stress [kg]: its solids, plus its
-    water less the water it displaces (-(1 - n0) rho_w V0) where saturated."""
+    water where saturated, less the water it displaces (-rho_w V0) where that water carries its own weight
+    (p_buoyant 1: hydrostatic at t = 0; 0 for a body saturated at a uniform pressure, whose skeleton then
+    carries the water too)."""
     rho_w, n0 = pw.table[p_material, WATER.rho_w], pw.table[p_material, WATER.n0]
-    return p_mass + p_sat * (n0 * rho_w * p_vol - rho_w * p_vol)
+    return p_mass + p_sat * (n0 * rho_w * p_vol - p_buoyant * rho_w * p_vol)
 
 
 def wall_row(wall) -> np.ndarray:
