@@ -53,7 +53,6 @@ def _pw(case):
      "needs gravity"),
     (lambda c: c["solver"].update(update="musl") if "solver" in c else c.update(solver={"update": "musl"}),
      "solver.update", "saturated"),
-    (lambda c: c.update(solver={"transfer": "flip"}), "solver.transfer", "apic"),
     (lambda c: _pw(c).update(cavitation_pressure=5e3), "materials.soil.pore_water.cavitation_pressure",
      "must be <= 0.0"),
 ])

@@ -1,8 +1,9 @@
 """What the saturated scheme cannot run, and what it advises against (docs/pore-water.md, Limits).
 
-Refused, each with its JSON path and what to use instead: FLIP (the water's transfer follows the solid's
-affine matrix).  A periodic axis runs: the scheme folds its scatters onto the images (passes.fold).
-Warned: APIC or MLS above FLOW_CFL.
+Every transfer runs (the water's follows the solid's: its affine matrix with APIC and MLS, its FLIP blend with
+FLIP); a periodic axis runs (the scheme folds its scatters onto the images: passes.fold).  Nothing is refused
+here; MUSL is another scheme (a case with saturated materials runs this one).  Warned: APIC or MLS above
+FLOW_CFL.
 """
 
 from __future__ import annotations
@@ -28,8 +29,5 @@ def flow_warnings(case) -> list[tuple[str, str]]:
 
 
 def unsupported(case, loaded) -> list[tuple[str, str]]:
-    out = []
-    why = "is not implemented for saturated materials (docs/pore-water.md, Limits)"
-    if case.solver.transfer == "flip":
-        out.append(("solver.transfer", f"'flip' {why}; use \"apic\", \"mls\" or \"pic\""))
-    return out
+    """(JSON path, sentence) of what the scheme cannot run: nothing at present."""
+    return []

@@ -250,7 +250,7 @@ def node_fill_one(i, g_w, g_solid, walls, origin, h, lo, nloc, cell_volume, g_fi
 
 @njit(cache=True, inline="always")
 def node_split_one(i, g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, g_solid, walls, origin, h, lo, nloc, gravity, dt,
-                   mass_eps, g_vw):
+                   mass_eps, g_vw, g_vold, g_vwold):
     """Node i: solid and water velocities from the mixture's after the stages (g_vel, in place -> the solid's;
     g_vw <- the water's).
 
@@ -270,7 +270,12 @@ def node_split_one(i, g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, g_solid, walls,
     if big <= mass_eps:
         for a in range(d):
             g_vw[i, a] = 0.0
+            g_vwold[i, a] = 0.0
         return
+    fw_old = g_w[i, NODE_WATER.mass] / big
+    for a in range(d):
+        g_vwold[i, a] = g_vold[i, a] + (1.0 - fw_old) * g_rel0[i, a]
+        g_vold[i, a] -= fw_old * g_rel0[i, a]
     ix, iy, iz = node_of(i, lo, nloc, d)
     w0 = g_rel[i, 0]
     w1 = g_rel[i, 1]
@@ -340,19 +345,21 @@ def node_split_one(i, g_mass, g_vel, g_vpre, g_w, g_rel, g_rel0, g_solid, walls,
 
 
 @njit(cache=True, inline="always")
-def water_g2p_one(p, tag, p_x, p_vw, p_Cw, affine, apic_dinv, p_divw, p_divs, p_fill, g_vw, g_vs, g_fill, origin, h,
-                  kind, lo, nloc):
+def water_g2p_one(p, tag, p_x, p_vw, p_Cw, affine, apic_dinv, flip, p_divw, p_divs, p_fill, g_vw, g_vwold, g_vs, g_fill,
+                  origin, h, kind, lo, nloc):
     """Particle p (``tag``: the stencil's S nodes per axis, kernels/stencil.py): the water's particle
     velocity, its affine matrix (with ``affine``: C_w = B_w D^-1 as the solid's
     APIC, B_w = sum N v_wI (x_I - x_p)^T, or the velocity gradient for linear hats, apic_dinv = 0), the
     divergences of the water's and the solid's velocities at the particle and the node fill interpolated
-    (at the particles' positions before they move)."""
+    (at the particles' positions before they move).  With FLIP (``flip`` the ratio > 0, the solid's) the
+    water's velocity is flip (v_wp + sum N (v_wI - v_wI,old)) + (1 - flip) sum N v_wI."""
     S = len(tag)
     d = p_x.shape[1]
     inv_h = 1.0 / h
     Sz = S if d == 3 else 1
     b, wx, dx, wy, dy, wz, dz = particle_stencil(p_x, p, origin, kind, inv_h, d)
     v0 = v1 = v2 = div = divs = fill = 0.0
+    q0 = q1 = q2 = 0.0  # sum N v_wI,old (FLIP)
     # A[a, e] = sum v_a (x_I - x_p)_e (APIC) or sum v_a dN/dx_e (linear hats)
     a00 = a01 = a02 = a10 = a11 = a12 = a20 = a21 = a22 = 0.0
     o0 = b[0] * h + origin[0] - p_x[p, 0]
@@ -380,6 +387,10 @@ def water_g2p_one(p, tag, p_x, p_vw, p_Cw, affine, apic_dinv, p_divw, p_divs, p_
                 v0 += wt * u0
                 v1 += wt * u1
                 v2 += wt * u2
+                q0 += wt * g_vwold[idx, 0]
+                q1 += wt * g_vwold[idx, 1]
+                if d == 3:
+                    q2 += wt * g_vwold[idx, 2]
                 div += gx * u0 + gy * u1 + gz * u2
                 divs += gx * g_vs[idx, 0] + gy * g_vs[idx, 1]
                 if d == 3:
@@ -397,10 +408,11 @@ def water_g2p_one(p, tag, p_x, p_vw, p_Cw, affine, apic_dinv, p_divw, p_divs, p_
                 a20 += u2 * e0
                 a21 += u2 * e1
                 a22 += u2 * e2
-    p_vw[p, 0] = v0
-    p_vw[p, 1] = v1
+    keep = 1.0 - flip
+    p_vw[p, 0] = flip * (p_vw[p, 0] + v0 - q0) + keep * v0
+    p_vw[p, 1] = flip * (p_vw[p, 1] + v1 - q1) + keep * v1
     if d == 3:
-        p_vw[p, 2] = v2
+        p_vw[p, 2] = flip * (p_vw[p, 2] + v2 - q2) + keep * v2
     if affine:
         f = apic_dinv if apic_dinv > 0.0 else 1.0
         p_Cw[p, 0, 0], p_Cw[p, 0, 1], p_Cw[p, 1, 0], p_Cw[p, 1, 1] = f * a00, f * a01, f * a10, f * a11

@@ -24,9 +24,11 @@ cuda.py.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from geompm.kernels.stencil import AFFINE, stencil_tag
+from geompm.kernels.stencil import AFFINE, FLIP, SCHEMES, stencil_tag
 from geompm.schemes.saturated import kernels as tp
 from geompm.schemes.saturated.solids import WIDTH
 
@@ -42,6 +44,7 @@ class SaturatedPasses:
         self.tag = stencil_tag(self.scene.grid.kind)
         self.smoothing = bool(water.smoothing)
         self.affine = self.scene.transfer in AFFINE  # the water's transfer follows the solid's
+        self.flips = SCHEMES.index(self.scene.transfer) == FLIP  # and its FLIP blend (the solid's ratio)
         self.table = self._on_device(water.table)
         self.walls = self._on_device(water.walls)
         self.gravity = self._on_device(self.scene.gravity)
@@ -93,6 +96,7 @@ class SaturatedPasses:
         self.g_rel = self._zeros((cap, d))
         self.g_rel0 = self._zeros((cap, d))
         self.g_vw = self._zeros((cap, d))
+        self.g_vwold = self._zeros((cap, d))
         self.g_vpre = self._zeros((cap, d))
         self.g_fill = self._zeros(cap)
         self.g_pore = self._zeros((cap, 7))
@@ -107,8 +111,8 @@ class SaturatedPasses:
             self.p_fill = self._zeros(n)
 
     def _arrays(self):
-        grid = (self.g_w, self.g_vp, self.g_p, self.g_rel, self.g_rel0, self.g_vw, self.g_vpre, self.g_fill,
-                self.g_pore)
+        grid = (self.g_w, self.g_vp, self.g_p, self.g_rel, self.g_rel0, self.g_vw, self.g_vwold, self.g_vpre,
+                self.g_fill, self.g_pore)
         parts = () if self.n < 0 else (self.p_total, self.p_wmass, self.p_drag, self.p_divw, self.p_divs,
                                        self.p_dp, self.p_dps, self.p_fill)
         return grid + parts
@@ -215,16 +219,18 @@ class SaturatedPasses:
         lo, nloc = self.window_index(view)
         self.be.each(tp.node_split_one, nn, view.g_mass, view.g_vel, self.g_vpre[:nn], self.g_w[:nn],
                      self.g_rel[:nn], self.g_rel0[:nn], self.g_solid, self.walls, self._origin, g.h, lo, nloc, self.gravity, dt,
-                     self.be.mass_eps, self.g_vw[:nn])
+                     self.be.mass_eps, self.g_vw[:nn], view.g_vel_old, self.g_vwold[:nn])
 
     def water_g2p(self, view, dt: float, halo) -> None:
         """The water's particle velocity and the pore pressure's step, at the particles before they move."""
         be, g, nn, n = self.be, self.scene.grid, view.g_vel.shape[0], self.n
         P = self.particles()
         lo, nloc = self.window_index(view)
-        be.each(tp.water_g2p_one, n, self.tag, P.p_x, P.p_vw, P.p_Cw, self.affine, self.scene.apic_dinv,
-                self.p_divw, self.p_divs, self.p_fill, self.g_vw[:nn], view.g_vel, self.g_fill[:nn], self._origin,
-                g.h, g.kind, lo, nloc)
+        sc = self.scene
+        flip = 0.0 if not self.flips else (sc.flip_ratio if sc.flip_tau is None else math.exp(-dt / sc.flip_tau))
+        be.each(tp.water_g2p_one, n, self.tag, P.p_x, P.p_vw, P.p_Cw, self.affine, sc.apic_dinv, flip,
+                self.p_divw, self.p_divs, self.p_fill, self.g_vw[:nn], self.g_vwold[:nn], view.g_vel,
+                self.g_fill[:nn], self._origin, g.h, g.kind, lo, nloc)
         be.each(tp.flag_drained_one, n, self.p_fill, P.p_sat, P.p_n, P.p_material, self.table, P.p_drained)
         be.each(tp.pressure_increment_one, n, self.p_dp, self.p_divw, self.p_divs, P.p_n, P.p_material, self.table,
                 dt)
