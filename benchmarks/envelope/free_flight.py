@@ -17,28 +17,17 @@ import numpy as np
 
 from geompm.api import scene_from_dict
 from geompm.engine.scheduler import Simulation
+from geompm.testing.verification.free_flight import block_case
 
 COMBINATIONS = [("linear", "apic"), ("linear", "flip"), ("linear", "pic"), ("quadratic", "apic"),
                 ("quadratic", "flip"), ("cubic", "apic")]
-
-
-def block(shape: str, transfer: str, saturated: bool) -> dict:
-    soil = {"model": "linear_elastic", "density": 2000.0, "youngs_modulus": 10e6, "poisson_ratio": 0.3}
-    if saturated:
-        soil["pore_water"] = {"porosity": 0.4, "hydraulic_conductivity": 1e-8, "fluid": {"bulk_modulus": 2.2e7}}
-    return {"name": "free_flight", "dimension": 2,
-            "grid": {"origin": [0, 0], "extent": [5, 1], "cell_size": 0.05, "shape_function": shape},
-            "time": {"end": 1.0}, "gravity": [0, 0], "materials": {"soil": soil},
-            "bodies": [{"material": "soil", "geometry": {"type": "box", "min": [0.2, 0.3], "max": [0.6, 0.7]},
-                        "velocity": [3, 0], "particles_per_cell": 2}],
-            "solver": {"transfer": transfer}}
 
 
 def run(shape: str, transfer: str, saturated: bool) -> dict:
     out = {"shape": shape, "transfer": transfer, "saturated": saturated}
     t0 = time.perf_counter()
     try:
-        sim = Simulation(scene_from_dict(block(shape, transfer, saturated)))
+        sim = Simulation(scene_from_dict(block_case(shape, transfer, saturated)))
     except Exception as exc:  # refused before any work
         out["refused"] = str(exc)[:300]
         return out

@@ -12,6 +12,7 @@ import pytest
 
 from geompm.api import scene_from_dict
 from geompm.engine.scheduler import Simulation
+from geompm.testing.verification.free_flight import block_case
 
 
 def spinning_block(shape: str):
@@ -87,17 +88,6 @@ def test_pore_pressure_is_zero_exactly_on_the_drained_free_surface():
     assert np.all(st.p_pore[~drained] > 0.0)
 
 
-def _flight(shape: str, transfer: str) -> dict:
-    soil = {"model": "linear_elastic", "density": 2000.0, "youngs_modulus": 10e6, "poisson_ratio": 0.3,
-            "pore_water": {"porosity": 0.4, "hydraulic_conductivity": 1e-8, "fluid": {"bulk_modulus": 2.2e7}}}
-    return {"name": "free_flight", "dimension": 2,
-            "grid": {"origin": [0, 0], "extent": [2.5, 1], "cell_size": 0.05, "shape_function": shape},
-            "time": {"end": 0.3}, "gravity": [0, 0], "materials": {"soil": soil},
-            "bodies": [{"material": "soil", "geometry": {"type": "box", "min": [0.2, 0.3], "max": [0.6, 0.7]},
-                        "velocity": [3, 0], "particles_per_cell": 2}],
-            "solver": {"transfer": transfer}}
-
-
 @pytest.mark.parametrize("shape", ["quadratic", "linear"])
 def test_a_saturated_block_in_free_flight_keeps_its_kinetic_energy_under_flip(shape):
     """A saturated elastic block (n = 0.4, k = 1e-8 m/s) in free flight at 3 m/s for 0.3 s (0.9 m, crossing
@@ -105,7 +95,7 @@ def test_a_saturated_block_in_free_flight_keeps_its_kinetic_energy_under_flip(sh
     and the water moves with the grains (|v_w - v_s| < 1e-6 m/s): both phases take their FLIP increment from
     their own old grid velocities. A water G2P that forgot the increment, or took the mixture's old
     velocity for the grains', would lose or gain energy at each cell crossing."""
-    sim = Simulation(scene_from_dict(_flight(shape, "flip")))
+    sim = Simulation(scene_from_dict(block_case(shape, "flip", True, length=2.5, end=0.3)))
     st = sim.state
     rho_w = 1000.0
 
