@@ -55,7 +55,7 @@ class SaturatedPasses:
         #: the periodic axes (Stage.periodic_axes): every scatter is folded onto its images (fold_one)
         self.periodic = sorted({a for st in self.scene.stages for a in st.periodic_axes()})
         self._images = (None, None, None)  # (lo, nloc, the window's image table)
-        self._no_solid = None  # zeros (cap, 2) for a scene without a rigid solid
+        self._no_solid = None  # zeros (cap, solids.WIDTH) for a scene without a rigid solid
         self._solid_host = self._solid = self.g_solid = None
 
     # -- what a backend gives --------------------------------------------------------------------------
@@ -168,7 +168,7 @@ class SaturatedPasses:
         self.be.each(tp.smooth_gather_one, self.n, self.tag, P.p_x, P.p_drained, self.g_p[:nn], self._origin, g.h,
                      g.kind, lo, nloc, p_out)
 
-    def _solids(self, view, lo, nloc, time):
+    def _solids(self, view, time):
         """The rigid solids' rows of the window's nodes (nn, solids.WIDTH): fill, drained contact mark,
         impermeable surface's normal (solids.SolidFill; zeros without a solid), where the kernels read it."""
         nn = view.g_mass.shape[0]
@@ -200,7 +200,7 @@ class SaturatedPasses:
         self._scatter(view, lo, nloc, P)
         halo((view.g_mass, view.g_mom, view.g_force, self.g_w[:nn]))
         self.fold(view, (view.g_mass.reshape(-1, 1), view.g_mom, view.g_force, self.g_w[:nn]))
-        self.g_solid = self._solids(view, lo, nloc, time)
+        self.g_solid = self._solids(view, time)
         be.each(tp.node_fill_one, nn, self.g_w[:nn], self.g_solid, self.walls, self._origin, g.h, lo, nloc,
                 g.h ** self.scene.dim, self.g_fill[:nn])
         be.each(tp.node_mixture_one, nn, view.g_mass, view.g_mom, self.g_w[:nn], be.mass_eps, self.g_rel[:nn])
