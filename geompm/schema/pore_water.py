@@ -2,8 +2,9 @@
 
 Refused, each with its JSON path: a fluid law with pore water (a fluid has no skeleton whose effective
 stress the water could share); neither or both of hydraulic_conductivity and intrinsic_permeability; a
-body's ``pore_pressure`` on a dry material; a fluid body beside saturated soil (the two waters do not mix); a water table without gravity or above the grid.  What the
-saturated step itself cannot run (FLIP, periodic axes) is the scheme's check (schemes/saturated/checks.py).
+body's ``pore_pressure`` on a dry material; a fluid body beside saturated soil (the two waters do not
+mix); a water table without gravity or above the grid.  What the saturated step itself cannot run is the
+scheme's check (schemes/saturated/checks.py: every transfer and periodic axes run).
 """
 
 from __future__ import annotations

@@ -18,9 +18,9 @@ vertical depth H(x, y) - z has sqrt(1 + |grad H|^2)), so the normal distance is 
 Nodes within the shape function's reach of the surface are found once at set-up (``SolidFill``); a stage
 with a prescribed velocity moves its band by the nearest whole node (an error under h / 2 in its
 position).  At a node on or inside an impermeable solid the water's velocity relative to the grains loses
-its normal part (no flow across the solid, as at an impermeable wall).  A stage with a ``drained_layer`` (a drained obstacle: a permeable or slit dam) adds no fill, so its
-face is a drained boundary, and marks its contact nodes, where the water keeps its velocity relative to
-the held grains and leaves through it.
+its normal part (no flow across the solid, as at an impermeable wall).  A stage with a ``drained_layer``
+(a drained obstacle: a permeable or slit dam) adds no fill, so its face is a drained boundary, and marks
+its contact nodes, where the water keeps its velocity relative to the held grains and leaves through it.
 """
 
 from __future__ import annotations
