@@ -4,7 +4,8 @@ blow-up is recorded with the step it stopped at and its message.
 
     python benchmarks/envelope/free_flight.py [OUT.json]
 
-Raw output: benchmarks/results/2026-12-05-issue52/free_flight.json.
+Raw output: benchmarks/results/2026-12-05-issue52/free_flight.json (before saturated linear APIC was refused)
+and free_flight_refused.json (after).
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from geompm.engine.scheduler import Simulation
 from geompm.testing.verification.free_flight import block_case
 
 COMBINATIONS = [("linear", "apic"), ("linear", "flip"), ("linear", "pic"), ("quadratic", "apic"),
-                ("quadratic", "flip"), ("cubic", "apic")]
+                ("quadratic", "flip"), ("quadratic", "mls"), ("cubic", "apic")]
 
 
 def run(shape: str, transfer: str, saturated: bool) -> dict:

@@ -23,6 +23,7 @@ from geompm.contract import registry
 from geompm.errors import CaseError, join_path
 from geompm.files.atomic import case_relative, unreadable_file
 from geompm.mpm.memory import available_memory, grid_bytes, particle_bytes, window_nodes
+from geompm.kernels.stencil import LINEAR_APIC
 from geompm.schema.case import Case, DampingSpec, MaterialSpec, OutputSpec, PluginSpec
 from geompm.schema.errors import format_validation_error
 from geompm.schema.pore_water import pore_water_problems
@@ -364,7 +365,7 @@ def _parse_valid_numbers(raw: dict, base_dir: Path) -> LoadedCase:
         problems.append(("time.dt", "give either a fixed 'dt' or 'dt_max', not both"))
     if case.solver.transfer == "mls" and case.grid.shape_function == "linear":
         problems.append(("solver.transfer", "'mls' needs a constant APIC inertia D, i.e. grid.shape_function "
-                                            "'quadratic' or 'cubic'; use 'apic' with 'linear'"))
+                                            "'quadratic' or 'cubic'; use 'flip' or 'pic' with 'linear'"))
     for i, body in enumerate(case.bodies):
         _check_body(i, body, case, base_dir, problems)
     _check_precision(case, problems)
@@ -399,7 +400,8 @@ def plausibility_warnings(loaded) -> list[tuple[str, str]]:
 
 
 def ineffective_settings(raw: dict, case: Case) -> list[tuple[str, str]]:
-    """Settings the case gives explicitly that would do nothing, as (path, message): `geompm validate`
+    """Settings the case gives explicitly that would do nothing, and APIC with linear hats in a dry case
+    (unstable in motion, stencil.LINEAR_APIC), as (path, message): `geompm validate`
     and `geompm run` warn, so a user never believes a parameter acts when it does not.  Warned, not
     refused: a study that varies time.dt or solver.transfer over a case legitimately produces them."""
     out = []
@@ -416,6 +418,10 @@ def ineffective_settings(raw: dict, case: Case) -> list[tuple[str, str]]:
     if "cfl" in time and case.time.dt is not None:
         out.append(("time.cfl", f"has no effect with a fixed time.dt = {case.time.dt:g} s; remove one of them "
                                 "(the adaptive step uses cfl, a fixed dt replaces it)"))
+    dry = all(m.pore_water is None for m in case.materials.values())  # saturated: refused (the scheme's check)
+    if dry and case.solver.transfer == "apic" and case.grid.shape_function == "linear":
+        out.append(("solver.transfer", LINEAR_APIC + " (a quasi-static run, a slope's strength reduction, is "
+                                                     "verified with it)"))
     if case.dimension == 2:
         for i, body in enumerate(raw.get("bodies") or []):
             geo = body.get("geometry") if isinstance(body, dict) else None

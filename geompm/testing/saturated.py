@@ -39,7 +39,7 @@ def saturated_element(name: str) -> dict:
     q = 1e-3 * modulus
     case = {"name": "saturated_element", "dimension": 2,
             "grid": {"origin": [0, 0], "extent": [W, H + 2 * CELL], "cell_size": CELL, "shape_function": "linear"},
-            "time": {"end": 0.03}, "gravity": [0.0, 0.0],
+            "time": {"end": 0.03}, "gravity": [0.0, 0.0], "solver": {"transfer": "flip"},
             "materials": {"soil": params},
             "bodies": [{"material": "soil", "geometry": {"type": "box", "min": [0, 0], "max": [W, H]},
                         "particles_per_cell": 2}],

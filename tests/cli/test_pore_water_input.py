@@ -55,6 +55,7 @@ def _pw(case):
      "solver.update", "saturated"),
     (lambda c: _pw(c).update(cavitation_pressure=5e3), "materials.soil.pore_water.cavitation_pressure",
      "must be <= 0.0"),
+    (lambda c: c["solver"].update(transfer="apic"), "solver.transfer", "unstable in motion"),
 ])
 def test_bad_pore_water_input_is_refused_with_its_path(edit, path, words):
     """Each edit of the valid Terzaghi case is refused before any work, naming its JSON path."""
@@ -71,8 +72,27 @@ def test_a_saturated_flow_above_the_converged_cfl_is_warned():
     def warned(case):
         return [p for p, _ in parse_case(case, CASES).warnings if p == "time.cfl"]
 
-    assert warned(_mutated(lambda c: c["time"].update(cfl=0.4))) == ["time.cfl"]
-    assert warned(_mutated(lambda c: c["time"].update(cfl=0.1))) == []
+    def apic(c, cfl):
+        c["time"].update(cfl=cfl)
+        c["grid"].update(shape_function="quadratic")
+        c["solver"].update(transfer="apic")
+
+    assert warned(_mutated(lambda c: apic(c, 0.4))) == ["time.cfl"]
+    assert warned(_mutated(lambda c: apic(c, 0.1))) == []
+    assert warned(_mutated(lambda c: c["time"].update(cfl=0.4))) == []  # the shipped FLIP
     assert warned(_mutated(lambda c: c["time"].update(cfl=0.4) or c.setdefault("solver", {}).update(
         transfer="pic"))) == []
     assert warned(json.loads((CASES / "saturated_debris_obstacle.json").read_text())) == []
+
+
+def test_apic_with_linear_hats_is_warned_in_a_dry_case():
+    """APIC with linear hats, refused for saturated soil (above), is warned at solver.transfer in a dry case
+    (a quasi-static strength reduction is verified with it) and not with FLIP: the free-flight block
+    (benchmarks/envelope/free_flight.py) leaves the grid at 0.13 s with it, its kinetic energy kept within
+    4e-10 by FLIP."""
+    dry = _mutated(lambda c: c["materials"]["soil"].pop("pore_water") and c["bodies"][0].pop("pore_pressure"))
+    dry["solver"]["transfer"] = "apic"
+    hits = [m for p, m in parse_case(dry, CASES).warnings if p == "solver.transfer"]
+    assert len(hits) == 1 and "unstable in motion" in hits[0] and "'flip'" in hits[0], hits
+    dry["solver"]["transfer"] = "flip"
+    assert [p for p, _ in parse_case(dry, CASES).warnings if p == "solver.transfer"] == []

@@ -108,10 +108,11 @@ def test_the_water_cavitates_at_its_cavitation_pressure_and_closes_its_vapour_be
     """The undrained oedometer (roller sides) pulled by 300 kPa, past what its water sustains: undrained it
     would hold p = B q = -288.6 kPa (measured -287.5 kPa with the bound off); with the default cavitation
     pressure, -100 kPa, no particle ever holds less (the bound), the interior ends at -100 kPa within 1 %
-    and the skeleton carries the rest, sigma' = q + p = 200 kPa within 1 % (measured -99.84 and 199.97 kPa).
-    The pull's ringing recompresses the column: a bound that clamped the carried pressure too (no vapour
-    kept) ended this run at p = +24.9 kPa, pushing where the water had cavitated."""
-    bounded = oedometer_undrained(0.1, -300e3)
+    and the skeleton carries the rest, sigma' = q + p = 200 kPa within 1 % (PIC, which damps the cavitated
+    column's ringing, at 80 ms: measured -100.0 and 199.57 kPa; FLIP is 1.3 % off rest at 40 ms and 1.8 %
+    at 80 ms). The pull's ringing recompresses the column: a bound that clamped the carried pressure too (no
+    vapour kept) ended the run at p = +24.9 kPa (APIC, 40 ms), pushing where the water had cavitated."""
+    bounded = oedometer_undrained(0.1, -300e3, transfer="pic", end=0.08)
     assert bounded["least"] >= -100e3 and abs(bounded["p"] / -100e3 - 1) < 0.01, bounded
     assert abs(bounded["effective"] / 200e3 - 1) < 0.01 and abs(bounded["total_error"]) < 1e-2, bounded
     free = oedometer_undrained(0.1, -300e3, cavitation=-1e12)

@@ -1,14 +1,14 @@
 """What the saturated scheme cannot run, and what it advises against (docs/pore-water.md, Limits).
 
 Every transfer runs (the water's follows the solid's: its affine matrix with APIC and MLS, its FLIP blend with
-FLIP); a periodic axis runs (the scheme folds its scatters onto the images: passes.fold).  Nothing is refused
-here; MUSL is another scheme (a case with saturated materials runs this one).  Warned: APIC or MLS above
-FLOW_CFL.
+FLIP); a periodic axis runs (the scheme folds its scatters onto the images: passes.fold).  Refused: APIC with
+linear hats (unstable in motion, stencil.LINEAR_APIC; a dry case is warned).  MUSL is another scheme (a case
+with saturated materials runs this one).  Warned: APIC or MLS above FLOW_CFL.
 """
 
 from __future__ import annotations
 
-from geompm.kernels.stencil import AFFINE
+from geompm.kernels.stencil import AFFINE, LINEAR_APIC
 
 
 #: the largest CFL number at which the saturated APIC/MLS step's flows are converged in time (docs/pore-water.md)
@@ -29,5 +29,7 @@ def flow_warnings(case) -> list[tuple[str, str]]:
 
 
 def unsupported(case, loaded) -> list[tuple[str, str]]:
-    """(JSON path, sentence) of what the scheme cannot run: nothing at present."""
+    """(JSON path, sentence) of what the scheme cannot run: APIC with linear hats."""
+    if case.solver.transfer == "apic" and case.grid.shape_function == "linear":
+        return [("solver.transfer", LINEAR_APIC)]
     return []

@@ -36,7 +36,8 @@ def _soil(shape: str = "linear") -> dict:
 def _case(name, dim, origin, extent, h, gravity, bodies, end, shape="linear") -> dict:
     return {"name": name, "dimension": dim,
             "grid": {"origin": origin, "extent": extent, "cell_size": h, "shape_function": shape},
-            "time": {"end": end}, "gravity": gravity, "materials": {"soil": _soil()}, "bodies": bodies,
+            "time": {"end": end}, "gravity": gravity, "solver": {"transfer": "flip"},
+            "materials": {"soil": _soil()}, "bodies": bodies,
             "damping": [{"model": "local", "alpha": 0.3}]}
 
 
