@@ -2,7 +2,9 @@
 (geompm/testing/verification/saturated_columns.py): the hydrostatic column, Terzaghi's consolidation (stiff and soft sets),
 undrained loading, steady seepage and the undrained P-wave.  One JSON line per run.
 
-    python benchmarks/pore_water/columns.py [hydro|terzaghi|undrained|seepage|wave ...]
+    python benchmarks/pore_water/columns.py [hydro|terzaghi|musl|undrained|seepage|wave ...]
+
+(musl: the stiff Terzaghi set in MUSL order, solver.update saturated_musl.)
 """
 
 import json
@@ -31,6 +33,10 @@ def main(which):
     if "wave" in which:
         for h in (0.05, 0.025, 0.0125):
             show("wave", ts.undrained_wave_speed(h))
+    if "musl" in which:
+        for h in SIZES:
+            for r in ts.run_terzaghi(h, update="saturated_musl"):
+                show("stiff-musl", r)
     if "terzaghi" in which:
         for soft in (False, True):
             for h in SIZES:

@@ -2,8 +2,8 @@
 
 Every transfer runs (the water's follows the solid's: its affine matrix with APIC and MLS, its FLIP blend with
 FLIP); a periodic axis runs (the scheme folds its scatters onto the images: passes.fold).  Refused: APIC with
-linear hats (unstable in motion, stencil.LINEAR_APIC; a dry case is warned).  MUSL is another scheme (a case
-with saturated materials runs this one).  Warned: APIC or MLS above FLOW_CFL.
+linear hats (unstable in motion, stencil.LINEAR_APIC; a dry case is warned).  MUSL order is the scheme
+``saturated_musl`` (musl.py).  Warned: APIC or MLS above FLOW_CFL.
 """
 
 from __future__ import annotations

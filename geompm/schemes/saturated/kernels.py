@@ -180,6 +180,19 @@ def node_snapshot_one(i, g_mass, g_vel, g_vel_old, g_w, gravity, dt, mass_eps, g
         g_vpre[i, a] = g_vel[i, a]
 
 
+@njit(cache=True, inline="always")
+def node_remap_one(i, g_mass, g_mom, g_w, mass_eps, g_vel, g_rel, g_rel0, g_vpre):
+    """Node i, MUSL: the phases' momenta re-mapped from their updated particle velocities (the solid's on
+    g_mass, g_mom, the water's in g_w) to the mixture (node_mixture_one), its velocity g_vel and the relative
+    velocity g_rel, both kept (g_vpre, g_rel0) for node_split_one to find what the boundaries changed."""
+    node_mixture_one(i, g_mass, g_mom, g_w, mass_eps, g_rel)
+    m = g_mass[i]
+    for a in range(g_vel.shape[1]):
+        g_vel[i, a] = g_mom[i, a] / m if m > mass_eps else 0.0
+        g_vpre[i, a] = g_vel[i, a]
+        g_rel0[i, a] = g_rel[i, a]
+
+
 @njit(cache=True)
 def node_of(i, lo, nloc, d):
     """Global (ix, iy, iz) of window node i."""

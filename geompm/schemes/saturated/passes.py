@@ -56,6 +56,7 @@ class SaturatedPasses:
         self.periodic = sorted({a for st in self.scene.stages for a in st.periodic_axes()})
         self._images = (None, None, None)  # (lo, nloc, the window's image table)
         self._no_solid = None  # zeros (cap, solids.WIDTH) for a scene without a rigid solid
+        self.g_old = self.p_vw2 = self.p_Cw2 = None  # MUSL's scratch: the split's old velocity, a second G2P
         self._solid_host = self._solid = self.g_solid = None
 
     # -- what a backend gives --------------------------------------------------------------------------
@@ -115,7 +116,8 @@ class SaturatedPasses:
                 self.g_fill, self.g_pore)
         parts = () if self.n < 0 else (self.p_total, self.p_wmass, self.p_drag, self.p_divw, self.p_divs,
                                        self.p_dp, self.p_dps, self.p_fill)
-        return grid + parts
+        musl = tuple(a for a in (self.g_old, self.p_vw2, self.p_Cw2) if a is not None)
+        return grid + parts + musl
 
     def nbytes(self) -> int:
         return sum(a.nbytes for a in self._arrays())
@@ -223,14 +225,60 @@ class SaturatedPasses:
 
     def water_g2p(self, view, dt: float, halo) -> None:
         """The water's particle velocity and the pore pressure's step, at the particles before they move."""
-        be, g, nn, n = self.be, self.scene.grid, view.g_vel.shape[0], self.n
+        self._water_g2p(view, self.particles().p_vw, self.particles().p_Cw, self._flip(dt))
+        self.pressure_step(view, dt, halo)
+
+    def _flip(self, dt: float) -> float:
+        sc = self.scene
+        return 0.0 if not self.flips else (sc.flip_ratio if sc.flip_tau is None else math.exp(-dt / sc.flip_tau))
+
+    def _water_g2p(self, view, p_vw, p_Cw, flip: float) -> None:
+        """water_g2p_one into p_vw, p_Cw: the water's velocity and affine matrix, both divergences and the
+        fill at the particles."""
+        g, nn, sc = self.scene.grid, view.g_vel.shape[0], self.scene
         P = self.particles()
         lo, nloc = self.window_index(view)
-        sc = self.scene
-        flip = 0.0 if not self.flips else (sc.flip_ratio if sc.flip_tau is None else math.exp(-dt / sc.flip_tau))
-        be.each(tp.water_g2p_one, n, self.tag, P.p_x, P.p_vw, P.p_Cw, self.affine, sc.apic_dinv, flip,
-                self.p_divw, self.p_divs, self.p_fill, self.g_vw[:nn], self.g_vwold[:nn], view.g_vel,
-                self.g_fill[:nn], self._origin, g.h, g.kind, lo, nloc)
+        self.be.each(tp.water_g2p_one, self.n, self.tag, P.p_x, p_vw, p_Cw, self.affine, sc.apic_dinv, flip,
+                     self.p_divw, self.p_divs, self.p_fill, self.g_vw[:nn], self.g_vwold[:nn], view.g_vel,
+                     self.g_fill[:nn], self._origin, g.h, g.kind, lo, nloc)
+
+    def water_velocity(self, view, dt: float) -> None:
+        """MUSL: the water's particle velocity and affine matrix from the updated grid."""
+        P = self.particles()
+        self._water_g2p(view, P.p_vw, P.p_Cw, self._flip(dt))
+
+    def remap(self, view, halo, stages) -> None:
+        """MUSL: both phases' updated particle momenta back onto the grid (halo summed, folded), the mixture's
+        velocity and the relative velocity from them, ``stages()`` (the boundaries and obstacles) acting on
+        the mixture again, and the solid's and water's velocities split from it as after the step (the
+        walls' water rules; dt = 0: nothing advanced twice).  The divergences of the re-mapped velocities
+        at the particles then feed the pressure's step (pressure_step)."""
+        be, g = self.be, self.scene.grid
+        P = self.particles()
+        nn = view.g_mass.shape[0]
+        lo, nloc = self.window_index(view)
+        self._scatter(view, lo, nloc, P)
+        halo((view.g_mass, view.g_mom, view.g_force, self.g_w[:nn]))
+        self.fold(view, (view.g_mass.reshape(-1, 1), view.g_mom, view.g_force, self.g_w[:nn]))
+        be.each(tp.node_remap_one, nn, view.g_mass, view.g_mom, self.g_w[:nn], be.mass_eps, view.g_vel,
+                self.g_rel[:nn], self.g_rel0[:nn], self.g_vpre[:nn])
+        stages()
+        if self.g_old is None or self.g_old.shape[0] < self.cap:
+            self.g_old = self._zeros((self.cap, self.scene.dim))
+        self.be.each(tp.node_split_one, nn, view.g_mass, view.g_vel, self.g_vpre[:nn], self.g_w[:nn],
+                     self.g_rel[:nn], self.g_rel0[:nn], self.g_solid, self.walls, self._origin, g.h, lo, nloc,
+                     self.gravity, 0.0, be.mass_eps, self.g_vw[:nn], self.g_old[:nn], self.g_vwold[:nn])
+        if self.p_vw2 is None or self.p_vw2.shape[0] != self.n:
+            d = self.scene.dim
+            self.p_vw2, self.p_Cw2 = self._zeros((self.n, d)), self._zeros((self.n, d, d))
+        self._water_g2p(view, self.p_vw2, self.p_Cw2, 0.0)
+
+    def pressure_step(self, view, dt: float, halo) -> None:
+        """The drained flag, the pore pressure's increment from the divergences at the particles (the
+        pressure seen through the grid with the smoothing) and both pressures advanced."""
+        be, n = self.be, self.n
+        P = self.particles()
+        lo, nloc = self.window_index(view)
         be.each(tp.flag_drained_one, n, self.p_fill, P.p_sat, P.p_n, P.p_material, self.table, P.p_drained)
         be.each(tp.pressure_increment_one, n, self.p_dp, self.p_divw, self.p_divs, P.p_n, P.p_material, self.table,
                 dt)

@@ -83,11 +83,13 @@ def terzaghi_constants(case=TERZAGHI) -> dict:
             "E": E, "nu": nu, "n": n, "Kw": Kw}
 
 
-def terzaghi_case(h: float, soft: bool = False) -> dict:
-    """cases/terzaghi_consolidation.json at cell size h, without writers; ``soft``: E = 10 MPa, n = 0.4,
-    K_w = 2.2e8 Pa (the issue's second set), its undrained start recomputed."""
+def terzaghi_case(h: float, soft: bool = False, update: str = "saturated") -> dict:
+    """cases/terzaghi_consolidation.json at cell size h, without writers, run by the scheme ``update``
+    (saturated or saturated_musl); ``soft``: E = 10 MPa, n = 0.4, K_w = 2.2e8 Pa (the issue's second set),
+    its undrained start recomputed."""
     case = copy.deepcopy(TERZAGHI)
     case["outputs"] = []
+    case["solver"]["update"] = update
     case["grid"]["cell_size"] = h
     case["grid"]["extent"][0] = 2 * h
     case["bodies"][0]["geometry"]["max"][0] = 2 * h
@@ -118,10 +120,10 @@ def degree(tv, terms=400):
     return 1 - float((8 / (m * m * np.pi ** 2) * np.exp(-m * m * np.pi ** 2 * tv / 4)).sum())
 
 
-def run_terzaghi(h: float, tvs=(0.05, 0.2, 0.5, 1.0), soft: bool = False) -> list[dict]:
+def run_terzaghi(h: float, tvs=(0.05, 0.2, 0.5, 1.0), soft: bool = False, update: str = "saturated") -> list[dict]:
     """At each Tv: the largest |p - p_exact| / p0 over the particles, and the top row's settlement against
     p0 H / M U(Tv) (relative)."""
-    case = terzaghi_case(h, soft)
+    case = terzaghi_case(h, soft, update)
     c = terzaghi_constants(case)
     sim = Simulation(scene_from_dict(case))
     st = sim.state
