@@ -150,6 +150,14 @@ def scenes(folder: Path) -> dict:
                 {"type": "wall", "side": "y-", "condition": "friction", "friction": 0.4},
                 {"type": "wall", "side": "x-", "condition": "slip", "drainage": "drained"}],
             velocity=[-1.0, 0.0], box=((0.0, 0.0), (0.3, 0.3))),
+        # the same in MUSL order (schemes/saturated/musl.py: the remap's scatters and second split)
+        "saturated_drucker_prager_musl": case2d(
+            law("drucker_prager", pore_water={"porosity": 0.4, "hydraulic_conductivity": 1e-3,
+                                              "fluid": {"bulk_modulus": 2e7}}),
+            {"update": "saturated_musl"}, boundaries=[
+                {"type": "wall", "side": "y-", "condition": "friction", "friction": 0.4},
+                {"type": "wall", "side": "x-", "condition": "slip", "drainage": "drained"}],
+            velocity=[-1.0, 0.0], box=((0.0, 0.0), (0.3, 0.3))),
         # softening laws: MC under a strength-reduction ramp (the parameters re-uploaded each step), DP plain
         "mohr_coulomb_softening_trigger": dict(case2d(law("mohr_coulomb_softening"), velocity=[0.5, 0.0]),
                                                triggers={"strength_reduction": {"times": [0.0, 0.01],
