@@ -2,11 +2,11 @@
 walls, plane strain): the front and the pore pressure every 0.1 s to 1.2 s (docs/pore-water.md, The main
 job, saturated), at cfl 0.4 unless time.cfl is set.
 
-    python benchmarks/pore_water/flume2d.py [--dry] [--pic-water] [--raw-pressure] [KEY=VALUE ...]
+    python benchmarks/pore_water/flume2d.py [--dry] [--pic-water] [--raw-pressure] [--end=T] [KEY=VALUE ...]
 
 --dry: the debris dry at the same total density (2000 kg/m3); --pic-water: the water without its affine
 matrix (the first version); --raw-pressure: the grid sees the particles' own pressure while the increment
-is smoothed (the first version). KEY=VALUE overrides the case as `geompm run --set`.
+is smoothed (the first version); --end=T: run to T s (default 1.2). KEY=VALUE overrides the case as `geompm run --set`.
 """
 
 import json
@@ -59,7 +59,8 @@ def raw_pressure_p2g(wet):
 
 
 def main(argv):
-    flags = {a for a in argv if a.startswith("--")}
+    flags = {a for a in argv if a.startswith("--") and "=" not in a}
+    end = float(next((a.split("=", 1)[1] for a in argv if a.startswith("--end=")), 1.2))
     sim = Simulation(scene_from_dict(flume2d("--dry" in flags, [a for a in argv if not a.startswith("--")]),
                                      base_dir=ROOT / "cases"))
     wet = getattr(sim.backend, "saturated", None)
@@ -68,7 +69,7 @@ def main(argv):
     if wet is not None and "--raw-pressure" in flags:
         raw_pressure_p2g(wet)
     t0, due = time.perf_counter(), 0.1
-    while sim.time < 1.2:
+    while sim.time < end - 1e-9:
         sim.step(sim.stable_dt())
         if sim.time >= due:
             st = sim.state
