@@ -14,7 +14,8 @@ from numba import njit
 
 from geompm.kernels.shape import axis_stencil, support
 
-__all__ = ["AFFINE", "APIC", "FLIP", "LINEAR_APIC", "MLS", "PIC", "SCHEMES", "axis_stencil", "mls_derivatives", "scheme_tag", "stencil_tag"]
+__all__ = ["AFFINE", "APIC", "FLIP", "LINEAR_APIC", "MLS", "PIC", "SCHEMES", "axis_stencil", "linear_apic",
+           "mls_derivatives", "scheme_tag", "stencil_tag"]
 
 #: the velocity-transfer schemes in the order of their compile-time tags: a kernel reads
 #: ``mode = len(scheme) - 1`` and compares it with these names, constants numba folds into every
@@ -30,6 +31,11 @@ LINEAR_APIC = ("'apic' with grid.shape_function 'linear' is unstable in motion: 
                "moving particle carries round-off in C from where it costs no energy to where it does (a "
                "linear-elastic block in free flight at 3 m/s leaves the grid after 0.13 s dry, 0.33 s "
                "saturated); set solver.transfer to 'flip' or 'pic', or grid.shape_function to 'quadratic'")
+
+
+def linear_apic(case) -> bool:
+    """Whether a case asks for APIC with linear hats (LINEAR_APIC)."""
+    return case.solver.transfer == "apic" and case.grid.shape_function == "linear"
 
 
 def stencil_tag(kind: int) -> tuple:

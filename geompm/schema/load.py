@@ -22,8 +22,8 @@ from pydantic import ValidationError
 from geompm.contract import registry
 from geompm.errors import CaseError, join_path
 from geompm.files.atomic import case_relative, unreadable_file
+from geompm.kernels.stencil import LINEAR_APIC, linear_apic
 from geompm.mpm.memory import available_memory, grid_bytes, particle_bytes, window_nodes
-from geompm.kernels.stencil import LINEAR_APIC
 from geompm.schema.case import Case, DampingSpec, MaterialSpec, OutputSpec, PluginSpec
 from geompm.schema.errors import format_validation_error
 from geompm.schema.pore_water import pore_water_problems
@@ -419,7 +419,7 @@ def ineffective_settings(raw: dict, case: Case) -> list[tuple[str, str]]:
         out.append(("time.cfl", f"has no effect with a fixed time.dt = {case.time.dt:g} s; remove one of them "
                                 "(the adaptive step uses cfl, a fixed dt replaces it)"))
     dry = all(m.pore_water is None for m in case.materials.values())  # saturated: refused (the scheme's check)
-    if dry and case.solver.transfer == "apic" and case.grid.shape_function == "linear":
+    if dry and linear_apic(case):
         out.append(("solver.transfer", LINEAR_APIC + " (a quasi-static run, a slope's strength reduction, is "
                                                      "verified with it)"))
     if case.dimension == 2:

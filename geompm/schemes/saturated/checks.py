@@ -8,7 +8,7 @@ linear hats (unstable in motion, stencil.LINEAR_APIC; a dry case is warned).  MU
 
 from __future__ import annotations
 
-from geompm.kernels.stencil import AFFINE, LINEAR_APIC
+from geompm.kernels.stencil import AFFINE, LINEAR_APIC, linear_apic
 
 
 #: the largest CFL number at which the saturated APIC/MLS step's flows are converged in time (docs/pore-water.md)
@@ -30,6 +30,6 @@ def flow_warnings(case) -> list[tuple[str, str]]:
 
 def unsupported(case, loaded) -> list[tuple[str, str]]:
     """(JSON path, sentence) of what the scheme cannot run: APIC with linear hats."""
-    if case.solver.transfer == "apic" and case.grid.shape_function == "linear":
+    if linear_apic(case):
         return [("solver.transfer", LINEAR_APIC)]
     return []

@@ -225,7 +225,7 @@ class SaturatedPasses:
 
     def water_g2p(self, view, dt: float, halo) -> None:
         """The water's particle velocity and the pore pressure's step, at the particles before they move."""
-        self._water_g2p(view, self.particles().p_vw, self.particles().p_Cw, self._flip(dt))
+        self.water_velocity(view, dt)
         self.pressure_step(view, dt, halo)
 
     def _flip(self, dt: float) -> float:
@@ -243,7 +243,7 @@ class SaturatedPasses:
                      self.g_fill[:nn], self._origin, g.h, g.kind, lo, nloc)
 
     def water_velocity(self, view, dt: float) -> None:
-        """MUSL: the water's particle velocity and affine matrix from the updated grid."""
+        """The water's particle velocity and affine matrix from the updated grid (MUSL's first G2P)."""
         P = self.particles()
         self._water_g2p(view, P.p_vw, P.p_Cw, self._flip(dt))
 

@@ -41,6 +41,13 @@ def _case(name, dim, origin, extent, h, gravity, bodies, end, shape="linear") ->
             "damping": [{"model": "local", "alpha": 0.3}]}
 
 
+def _on_floor_3d(case: dict, floor: dict) -> dict:
+    """The 3D case between slip walls on its four sides, on the rigid ``floor`` with friction 0.5."""
+    case["boundaries"] = [{"type": "wall", "side": s, "condition": "slip"} for s in ("x-", "x+", "y-", "y+")]
+    case["obstacles"] = [{**floor, "condition": "friction", "friction": 0.5}]
+    return case
+
+
 def floor_2d(h: float, floor: str = "box", end: float = 0.2, shape: str = "linear") -> dict:
     """A 1 m saturated column, 0.2 m wide, between slip walls, on a 0.2 m thick analytic box obstacle
     (``floor`` 'box', friction 0.5) or on the grid's y- wall ('wall')."""
@@ -73,10 +80,7 @@ def terrain_3d(tmp_path, h: float, slope_deg: float = 10.0, end: float = 0.2) ->
                                              "failure_surface": "ground.tif"},
             "particles_per_cell": 2, "initial_stress": "geostatic"}
     case = _case("layer_on_terrain", 3, [0.0, 0.0, 0.0], [0.8, 0.2, 0.6], h, [0.0, 0.0, -G], [body], end)
-    case["boundaries"] = [{"type": "wall", "side": s, "condition": "slip"} for s in ("x-", "x+", "y-", "y+")]
-    case["obstacles"] = [{"type": "terrain", "name": "ground", "dem": "ground.tif", "condition": "friction",
-                          "friction": 0.5}]
-    return case
+    return _on_floor_3d(case, {"type": "terrain", "name": "ground", "dem": "ground.tif"})
 
 
 def floor_3d(tmp_path, h: float, end: float = 0.2) -> dict:
@@ -89,10 +93,7 @@ def floor_3d(tmp_path, h: float, end: float = 0.2) -> dict:
     body = {"material": "soil", "geometry": {"type": "box", "min": [0.0, 0.0, 0.2], "max": [0.2, 0.2, 1.2]},
             "particles_per_cell": 2, "initial_stress": "geostatic"}
     case = _case("column_on_stl", 3, [0.0, 0.0, 0.0], [0.2, 0.2, 1.4], h, [0.0, 0.0, -G], [body], end)
-    case["boundaries"] = [{"type": "wall", "side": s, "condition": "slip"} for s in ("x-", "x+", "y-", "y+")]
-    case["obstacles"] = [{"type": "rigid_mesh", "name": "floor", "file": "floor.stl", "condition": "friction",
-                          "friction": 0.5}]
-    return case
+    return _on_floor_3d(case, {"type": "rigid_mesh", "name": "floor", "file": "floor.stl"})
 
 
 def inclined_plane_3d(tmp_path, h: float, slope_deg: float = 10.0, end: float = 0.2) -> dict:
