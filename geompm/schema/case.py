@@ -262,7 +262,8 @@ class PorePressureSpec(Strict):
 
     water_table: float | None = Field(
         None, description="Height of the water table along the upward direction (against gravity) [m]; the "
-        "particles above it start dry. Default: the body's top (fully saturated)")
+        "particles above it start dry. Default: the body's own surface, column by column (fully saturated, "
+        "hydrostatic below its local top on a slope or terrain)")
     excess: float = Field(0.0, description="Uniform excess pore pressure at t = 0 [Pa], compression positive")
     table_normal: Vector | None = Field(
         None, description="Unit normal of a water table parallel to a slope, out of the ground (seepage parallel "

@@ -79,3 +79,28 @@ def test_the_columns_run_across_any_gravity():
         b = across(up)
         assert b.shape == (len(up) - 1, len(up))
         assert np.allclose(b @ up, 0.0) and np.allclose(b @ b.T, np.eye(len(up) - 1))
+
+
+def test_a_body_with_a_sloping_top_starts_hydrostatic_below_its_own_surface():
+    """A saturated 2D wedge (top rising from y = 0.5 to 1.0 m over 2 m, tan b = 0.25) without a water table:
+    each particle starts at p = rho_w g (y_s - y) below its own column's top (columns one cell wide, so
+    within rho_w g (h tan b + s) = 736 Pa of the surface above it, h = 0.1 m, s = 0.05 m), not below a
+    level table at the wedge's highest point, which would put the low end's base under 0.5 m more water
+    (4.9 kPa) than it has; the geostatic effective stress under it stays compressive."""
+    from geompm.api import scene_from_dict
+
+    case = {"name": "wedge", "dimension": 2,
+            "grid": {"origin": [0.0, 0.0], "extent": [2.0, 1.2], "cell_size": 0.1, "shape_function": "quadratic"},
+            "time": {"end": 0.1}, "gravity": [0.0, -9.81],
+            "materials": {"soil": {"model": "linear_elastic", "density": 2650.0, "youngs_modulus": 1e7,
+                                   "poisson_ratio": 0.3,
+                                   "pore_water": {"porosity": 0.4, "hydraulic_conductivity": 1e-4}}},
+            "bodies": [{"material": "soil", "particles_per_cell": 2, "initial_stress": "geostatic",
+                        "geometry": {"type": "polygon", "vertices": [[0, 0], [2, 0], [2, 1.0], [0, 0.5]]}}]}
+    st = scene_from_dict(case).state
+    surface = 0.5 + 0.25 * st.p_x[:, 0]
+    head = st.p_pore / (1000.0 * 9.81)
+    assert np.abs(head - (surface - st.p_x[:, 1])).max() < 0.25 * 0.1 + 0.05
+    low = (st.p_x[:, 0] < 0.1) & (st.p_x[:, 1] < 0.05)
+    assert head[low].max() < 0.5 + 0.05  # the low end's base: its own 0.5 m, not the wedge's 1.0 m
+    assert st.p_stress[:, 1].max() < 0.0

@@ -3,8 +3,8 @@ pore-water table of the materials, each particle's water and the initial pore pr
 
 A material with ``pore_water`` has ``density`` = the grains' density rho_s; the law runs with the dry density
 (1 - n0) rho_s (``skeleton_params``), its particles carry the solids' mass (1 - n0) rho_s V0 and, below their
-body's water table, water of mass n0 rho_w V0 under the hydrostatic pressure p = rho_w |g| (z_wt - z) plus the
-body's uniform excess.  Particles above the table start dry.  Geostatic stress is then effective stress: the
+body's water table (by default its own surface, column by column), water of mass n0 rho_w V0 under the
+hydrostatic pressure p = rho_w |g| (z_wt - z) plus the body's uniform excess.  Particles above the table start dry.  Geostatic stress is then effective stress: the
 overburden is weighed with each particle's solids and water less the water it displaces below the table (its
 buoyant weight), so sigma'_v = (1 - n)(rho_s - rho_w) g depth in a fully saturated layer.
 """
@@ -15,6 +15,7 @@ import numpy as np
 
 from geompm.schemes.saturated.fields import PoreWater
 from geompm.schemes.saturated.kernels import WALL, WATER
+from geompm.schemes.saturated.surface import column_surface
 
 #: standard gravity [m/s2], converting a hydraulic conductivity k to an intrinsic permeability
 #: kappa = k mu_w / (rho_w g0) (the conductivity is a property measured under standard gravity)
@@ -60,9 +61,13 @@ def skeleton_params(case, name: str, params):
 def body_water(body, pw: PoreWater, mid: int, pts: np.ndarray, h: float, ppc: int):
     """(saturated flag, water-table height [m], pore pressure [Pa], buoyant flag: 1 where the water carries
     its own weight at t = 0, so that the geostatic overburden weighs the particle buoyant) of a body's
-    particles; None for a body of a dry material.  Below a level table p = rho_w |g| depth; below one parallel to a slope
-    (``table_normal`` n) p = rho_w (-g . n) depth along n, seepage parallel to the slope; with
-    ``hydrostatic`` false (or no gravity) saturated throughout at the uniform excess."""
+    particles; None for a body of a dry material.  Without ``water_table`` and ``table_normal`` the table is
+    the body's own surface, column by column (surface.column_surface: columns one cell wide, the top particle
+    standing for half a spacing above it), p = rho_w |g| (z_s - z): a body on a slope or on terrain is
+    hydrostatic below its own surface everywhere, as the geostatic overburden weighs it.  Below a level
+    ``water_table`` p = rho_w |g| depth; below a table parallel to a slope (``table_normal`` n)
+    p = rho_w (-g . n) depth along n, seepage parallel to the slope; with ``hydrostatic`` false (or no
+    gravity) saturated throughout at the uniform excess."""
     if not pw.wet[mid]:
         return None
     spec = body.pore_pressure
@@ -71,17 +76,22 @@ def body_water(body, pw: PoreWater, mid: int, pts: np.ndarray, h: float, ppc: in
         excess = 0.0 if spec is None else spec.excess
         top = float((pts @ pw.up).max()) + 0.5 * h / ppc if pw.up is not None and n else 0.0
         return np.ones(n), np.full(n, top), np.full(n, excess), np.zeros(n)
+    rho_w = pw.table[mid, WATER.rho_w]
+    excess = 0.0 if spec is None else spec.excess
+    if spec is None or (spec.water_table is None and spec.table_normal is None):  # the table at its own surface
+        origin, extent, cell = pw.grid
+        table = column_surface(pts, h / ppc, pw.up, origin, extent, cell) if n else np.zeros(0)
+        return np.ones(n), table, excess + rho_w * pw.g * (table - pts @ pw.up), np.ones(n)
     up, g_normal = pw.up, pw.g  # the table's normal and gravity's component against it
-    if spec is not None and spec.table_normal is not None:
+    if spec.table_normal is not None:
         up = np.asarray(spec.table_normal[:len(pw.up)], float)
         up = up / np.linalg.norm(up)
         g_normal = pw.g * float(up @ pw.up)
     height = pts @ up
     top = float(height.max()) + 0.5 * h / ppc if n else 0.0
-    table = top if spec is None or spec.water_table is None else spec.water_table
+    table = top if spec.water_table is None else spec.water_table
     sat = (height <= table + 1e-9 * h).astype(float)
-    excess = 0.0 if spec is None else spec.excess
-    hydrostatic = pw.table[mid, WATER.rho_w] * g_normal * np.maximum(table - height, 0.0)
+    hydrostatic = rho_w * g_normal * np.maximum(table - height, 0.0)
     return sat, np.full(n, table), sat * (excess + hydrostatic), np.ones(n)
 
 
