@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal, Union
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import BaseModel, ConfigDict, Field, PositiveFloat, field_validator, model_validator
 
 Vector = list[float]
 
@@ -65,6 +65,19 @@ class RunSpec(Strict):
         "error", description="A particle leaving the grid stops the run (exit 3) or is deleted (warned once)")
 
 
+class PressureSolverSpec(Strict):
+    """The semi-implicit two-phase step's pressure solve (solver.update 'saturated_semi_implicit';
+    docs/pore-water.md, The semi-implicit step): conjugate gradients with pyamg's smoothed aggregation."""
+
+    tolerance: float = Field(1e-8, gt=0, lt=1, description="Relative residual |b - A x| / |b| the solve reaches "
+                             "each step [-], in (0, 1)")
+    max_iterations: int = Field(500, ge=1, le=100000, description="Conjugate-gradient iterations a solve may take "
+                                "before the run stops (exit 3, naming the step and the residual)")
+    rebuild_interval: int = Field(20, ge=1, le=100000, description="Steps one multigrid hierarchy serves as the "
+                                  "preconditioner at most (rebuilt sooner when the unknown nodes change or the "
+                                  "iterations double)")
+
+
 class SolverSpec(Strict):
     transfer: Literal["apic", "pic", "flip", "mls"] = Field(
         "apic", description="Particle-grid velocity transfer: APIC (affine), PIC, FLIP/PIC blend, or MLS "
@@ -83,8 +96,10 @@ class SolverSpec(Strict):
     )
     update: str | None = Field(
         None, description="The time step's scheme, a 'geompm.schemes' entry point: 'usl' (update stress last), "
-        "'musl' (modified USL) or 'saturated' (two-phase soil, docs/pore-water.md); left out, 'usl' for dry "
-        "materials and 'saturated' where a material has 'pore_water'")
+        "'musl' (modified USL), 'saturated' (two-phase soil, explicit, docs/pore-water.md), 'saturated_musl' or "
+        "'saturated_semi_implicit' (two-phase soil with the pore pressure implicit: the skeleton's step, water's "
+        "real or infinite bulk modulus); left out, 'usl' for dry materials and 'saturated' where a material has "
+        "'pore_water'")
     backend: Literal["cpu", "cuda"] = Field(
         "cpu", description="Where the step's kernels run: 'cpu' (numba, all cores) or 'cuda' (an NVIDIA GPU "
         "through numba-cuda: pip install 'geompm[cuda]'; NUMBA_ENABLE_CUDASIM=1 runs it on numba-cuda's "
@@ -117,6 +132,10 @@ class SolverSpec(Strict):
         "see, and the pressure exchanges no spurious energy with the flow (docs/pore-water.md); false: the "
         "particles' own pressures and increments")
 
+    pressure_solver: PressureSolverSpec = Field(
+        default_factory=PressureSolverSpec, description="Scheme 'saturated_semi_implicit' only: the pressure "
+        "solve's tolerance and limits")
+
     @field_validator("flip_relaxation_time")
     @classmethod
     def _relaxation_needs_flip(cls, v, info):
@@ -130,8 +149,10 @@ class PoreFluidSpec(Strict):
     """The water filling a saturated soil's pores (docs/pore-water.md)."""
 
     density: float = Field(1000.0, gt=0, description="Water density rho_w [kg/m3]")
-    bulk_modulus: float = Field(2.2e9, gt=0, description="Water bulk modulus K_w [Pa] (2.2e9 for water; a "
-                                "smaller value shortens the run: `geompm validate` reports its effect on c_v)")
+    bulk_modulus: PositiveFloat | Literal["incompressible"] = Field(
+        2.2e9, description="Water bulk modulus K_w [Pa] (2.2e9 for water; a smaller value shortens an explicit "
+        "run: `geompm validate` reports its effect on c_v), or \"incompressible\" (solver.update "
+        "'saturated_semi_implicit' only)")
     viscosity: float = Field(1.0e-3, gt=0, description="Dynamic viscosity mu_w [Pa s] (1e-3 for water at 20 C)")
 
 

@@ -28,8 +28,14 @@ def flow_warnings(case) -> list[tuple[str, str]]:
                          f"time.cfl to {FLOW_CFL:g} for a flow (quasi-static consolidation is verified at 0.4)")]
 
 
-def unsupported(case, loaded) -> list[tuple[str, str]]:
-    """(JSON path, sentence) of what the scheme cannot run: APIC with linear hats."""
-    if linear_apic(case):
-        return [("solver.transfer", LINEAR_APIC)]
-    return []
+def unsupported(case, loaded, incompressible: bool = False) -> list[tuple[str, str]]:
+    """(JSON path, sentence) of what the scheme cannot run: APIC with linear hats; incompressible water
+    unless the scheme solves the pressure implicitly (``incompressible``)."""
+    out = [("solver.transfer", LINEAR_APIC)] if linear_apic(case) else []
+    if not incompressible:
+        for name, mat in case.materials.items():
+            if mat.pore_water is not None and mat.pore_water.fluid.bulk_modulus == "incompressible":
+                out.append((f"materials.{name}.pore_water.fluid.bulk_modulus",
+                            "incompressible water needs the pore pressure implicit: set solver.update to "
+                            "\"saturated_semi_implicit\", or give water's bulk modulus in Pa (2.2e9)"))
+    return out

@@ -45,6 +45,7 @@ class PoreWater:
     smoothing: bool = True  # the pore pressure seen through the grid each step (kernels.smooth_gather)
     solids: object = None  # the rigid solids' node fill (solids.SolidFill), made once the stages are set up
     grid: tuple = ()  # (origin, extent, cell size) of the grid [m]: the free surface's columns (surface.py)
+    pressure_solver: object = None  # solver.pressure_solver (the semi-implicit scheme's solve)
 
     def surface(self, st, comm_max=None) -> np.ndarray:
         """Each particle's column's free surface z_s [m] along the upward direction (surface.py)."""

@@ -7,6 +7,8 @@ the effect of its water compressibility:
 
 from __future__ import annotations
 
+import numpy as np
+
 from geompm.backend.cpu_loops import law_wave_speed
 from geompm.schemes.saturated import kernels as tp
 from geompm.schemes.saturated.setup import STANDARD_GRAVITY
@@ -30,6 +32,34 @@ def pore_water_lines(scene, pw) -> list[str]:
     if drag < float("inf"):
         lines.append(f"pore water: the drag is implicit and sets no limit; an explicit drag would need "
                      f"dt <= 2 k / (n g) = {drag:.3g} s")
+    return lines + consolidation_lines(scene, pw)
+
+
+def semi_implicit_lines(scene, pw) -> list[str]:
+    """The semi-implicit step (semi_implicit.py): the skeleton's wave sets the step; what the explicit
+    scheme's undrained wave would ask; the consolidation coefficients."""
+    from geompm.schemes.saturated.speeds import skeleton_speeds
+
+    st = scene.state
+    if st.n == 0:
+        return []
+    skeleton, _ = skeleton_speeds(scene, st, pw)
+    line = (f"pore water: semi-implicit (the pore pressure solved on the grid each step: CG with pyamg's "
+            f"smoothed aggregation, tolerance {pw.pressure_solver.tolerance:g}); the step is set by the skeleton's "
+            f"wave (the law's, at the dry density), {skeleton:.4g} m/s, and the flow's speed")
+    if np.isfinite(pw.table[:, tp.WATER.k_w]).all():
+        undrained = saturated_speeds(scene, st, pw)["undrained"]
+        line += (f"; the explicit scheme's undrained wave, {undrained:.4g} m/s, would take "
+                 f"{undrained / max(skeleton, 1e-300):.3g} times more steps")
+    else:
+        line += "; incompressible water (the explicit scheme cannot run it)"
+    return [line] + consolidation_lines(scene, pw)
+
+
+def consolidation_lines(scene, pw) -> list[str]:
+    """Each saturated material's c_v, with the effect of its water's compressibility."""
+    st = scene.state
+    lines = []
     for k, (mat, name, (s, e)) in enumerate(zip(scene.materials, scene.material_names, st.blocks)):
         if not pw.wet[k] or e <= s:
             continue
@@ -42,7 +72,10 @@ def pore_water_lines(scene, pw) -> list[str]:
         stiff = cond / (gamma / modulus)
         text = (f"materials.{name}.pore_water: c_v = {cv:.4g} m2/s (k = {cond:.3g} m/s, M = {modulus:.4g} Pa, "
                 f"K_w = {kw:.4g} Pa; {stiff:.4g} m2/s with incompressible water)")
-        if kw < WATER_BULK_MODULUS:
+        if kw == float("inf"):
+            text = (f"materials.{name}.pore_water: c_v = {cv:.4g} m2/s (k = {cond:.3g} m/s, M = {modulus:.4g} Pa, "
+                    "incompressible water)")
+        elif kw < WATER_BULK_MODULUS:
             full = cond / (gamma * (1.0 / modulus + n0 / WATER_BULK_MODULUS))
             text += (f"; the reduced K_w makes c_v {100 * (1 - cv / full):.1f} % smaller than water's "
                      f"{WATER_BULK_MODULUS:g} Pa would, and the undrained wave slower")

@@ -41,11 +41,13 @@ class Saturated(Scheme):
     default = True
     split_force = True
     fields = FIELDS
+    #: runs water of infinite bulk modulus (the pressure implicit: semi_implicit.py)
+    incompressible_water = False
     body_width = 4  # saturated flag, water-table height, pore pressure, buoyant flag (setup.body_water)
 
     @classmethod
     def problems(cls, case, loaded):
-        return checks.unsupported(case, loaded)
+        return checks.unsupported(case, loaded, cls.incompressible_water)
 
     @classmethod
     def warnings(cls, case):

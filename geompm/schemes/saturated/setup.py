@@ -20,6 +20,8 @@ from geompm.schemes.saturated.surface import column_surface
 #: standard gravity [m/s2], converting a hydraulic conductivity k to an intrinsic permeability
 #: kappa = k mu_w / (rho_w g0) (the conductivity is a property measured under standard gravity)
 STANDARD_GRAVITY = 9.80665
+#: an incompressible water's bulk modulus in the table (its storage n / K_w is 0)
+INFINITE = float("inf")
 
 
 def material_table(case, names) -> PoreWater | None:
@@ -37,7 +39,7 @@ def material_table(case, names) -> PoreWater | None:
         if kappa is None:
             kappa = pw.hydraulic_conductivity * f.viscosity / (f.density * STANDARD_GRAVITY)
         table[k, list(WATER)] = (
-            f.density, f.bulk_modulus, f.viscosity, pw.porosity, kappa,
+            f.density, INFINITE if f.bulk_modulus == "incompressible" else f.bulk_modulus, f.viscosity, pw.porosity, kappa,
             1.0 if pw.permeability_update == "kozeny_carman" else 0.0, pw.max_porosity, pw.cavitation_pressure)
     g = np.asarray(case.gravity, float)
     norm = float(np.linalg.norm(g))

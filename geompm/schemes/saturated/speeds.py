@@ -97,6 +97,24 @@ def saturated_speeds(scene, state, pw, comm=None) -> dict[str, float]:
     return combined_speeds(rows, pw, scene.material_names, lambda k: out_of_range(scene, state, pw, k))
 
 
+def skeleton_speeds(scene, state, pw) -> tuple[float, float]:
+    """(the skeleton's wave speed, the largest speed of either phase) [m/s] over the particles: the step of
+    the semi-implicit scheme (semi_implicit.py), where the pressure is implicit and no undrained or water
+    wave binds.  A porosity outside (0, 1) or a density that is not positive raises SimulationError (exit 3)
+    naming the particle."""
+    rows = block_extremes(scene, state, pw)
+    for k, (c, neg_n, rho_d, neg_sat, flow) in enumerate(rows):
+        n_min, rho_sat = -float(neg_n), -float(neg_sat)
+        if pw.wet[k] and n_min < 1.0 and not (n_min > 0.0 and rho_sat > 0.0 and math.isfinite(rho_sat)
+                                              and math.isfinite(c)):
+            raise SimulationError(
+                f"material '{scene.material_names[k]}' left its range (smallest porosity {n_min:.4g}, smallest "
+                f"saturated density {rho_sat:.4g} kg/m3, law speed {c:.4g} m/s)"
+                f"{out_of_range(scene, state, pw, k)}. Likely cause: a blow-up (a step too long for the "
+                "skeleton: lower time.cfl)")
+    return float(rows[:, 0].max(initial=0.0)), float(rows[:, 4].max(initial=0.0))
+
+
 def out_of_range(scene, state, pw, k: int) -> str:
     """', at particle <id> (...)': this process's particle of material k whose density or porosity is out of
     range (the smallest saturated density if none is), or '' when this process holds none of them."""

@@ -4,6 +4,7 @@ closed forms (tests/verification/test_pore_water.py, benchmarks/pore_water/colum
 
 import copy
 import json
+import math
 
 import numpy as np
 
@@ -32,12 +33,24 @@ def rows(st, key="p_x0"):
 HYDROSTATIC = (0.4, 2650.0, 9.81)
 
 
-def hydrostatic_case(h: float, end: float = 0.2) -> dict:
+def scheme(case: dict, update: str = "saturated", kw=None) -> dict:
+    """``case`` run by the scheme ``update``, its water's bulk modulus ``kw`` [Pa or "incompressible"] where
+    given (every saturated material)."""
+    case["solver"]["update"] = update
+    if kw is not None:
+        for mat in case["materials"].values():
+            if "pore_water" in mat:
+                mat["pore_water"].setdefault("fluid", {})["bulk_modulus"] = kw
+    return case
+
+
+def hydrostatic_case(h: float, end: float = 0.2, update: str = "saturated", kw=None, shape: str = "linear") -> dict:
     """A 1 m saturated elastic column (n = 0.4, rho_s = 2650, k = 1e-2 m/s) on an impermeable base between
-    slip walls, geostatic and hydrostatic at t = 0, local damping 0.3, to ``end``."""
+    slip walls, geostatic and hydrostatic at t = 0, local damping 0.3, to ``end``; run by ``update`` with the
+    water's bulk modulus ``kw`` (scheme) and ``shape`` functions."""
     n, rho_s, g = HYDROSTATIC
-    return {"name": "hydrostatic", "dimension": 2,
-            "grid": {"origin": [0, 0], "extent": [0.2, 1.2], "cell_size": h, "shape_function": "linear"},
+    case = {"name": "hydrostatic", "dimension": 2,
+            "grid": {"origin": [0, 0], "extent": [0.2, 1.2], "cell_size": h, "shape_function": shape},
             "time": {"end": end}, "solver": {"transfer": "flip"}, "gravity": [0, -g],
             "materials": {"soil": {"model": "linear_elastic", "density": rho_s, "youngs_modulus": 10e6,
                                    "poisson_ratio": 0.3,
@@ -47,14 +60,15 @@ def hydrostatic_case(h: float, end: float = 0.2) -> dict:
                         "particles_per_cell": 2, "initial_stress": "geostatic"}],
             "damping": [{"model": "local", "alpha": 0.3}],
             "boundaries": [{"type": "wall", "side": s, "condition": "slip"} for s in ("y-", "x-", "x+")]}
+    return scheme(case, update, kw)
 
 
-def hydrostatic_column(h: float, end: float = 0.2) -> dict:
+def hydrostatic_column(h: float, end: float = 0.2, update: str = "saturated", kw=None, shape: str = "linear") -> dict:
     """The hydrostatic column (hydrostatic_case) run to ``end``. Returns the largest relative errors of
     p = rho_w g depth and sigma'_v = (1 - n)(rho_s - rho_w) g depth over the rows more than two cells from
     the base and the surface (the quadratic B-splines' boundary rows are reported apart: docs)."""
     n, rho_s, g = HYDROSTATIC
-    sim = Simulation(scene_from_dict(hydrostatic_case(h, end)))
+    sim = Simulation(scene_from_dict(hydrostatic_case(h, end, update, kw, shape)))
     st = sim.state
     run_to(sim, end)
     levels, idx = rows(st)
@@ -76,20 +90,24 @@ def terzaghi_constants(case=TERZAGHI) -> dict:
     pw = soil["pore_water"]
     E, nu, n, k, Kw = (soil["youngs_modulus"], soil["poisson_ratio"], pw["porosity"],
                        pw["hydraulic_conductivity"], pw["fluid"]["bulk_modulus"])
+    Kw = float("inf") if Kw == "incompressible" else Kw
     M = E * (1 - nu) / ((1 + nu) * (1 - 2 * nu))
     q = case["boundaries"][-1]["pressure"]
     H = case["bodies"][0]["geometry"]["max"][1]
-    return {"q": q, "H": H, "M": M, "p0": q * (Kw / n) / (M + Kw / n), "cv": k / (GAMMA_W * (1 / M + n / Kw)),
+    return {"q": q, "H": H, "M": M, "p0": q / (1 + n * M / Kw), "cv": k / (GAMMA_W * (1 / M + n / Kw)),
             "E": E, "nu": nu, "n": n, "Kw": Kw}
 
 
-def terzaghi_case(h: float, soft: bool = False, update: str = "saturated") -> dict:
+def terzaghi_case(h: float, soft: bool = False, update: str = "saturated", kw=None, cfl: float | None = None) -> dict:
     """cases/terzaghi_consolidation.json at cell size h, without writers, run by the scheme ``update``
-    (saturated or saturated_musl); ``soft``: E = 10 MPa, n = 0.4, K_w = 2.2e8 Pa (the issue's second set),
-    its undrained start recomputed."""
+    (saturated, saturated_musl or saturated_semi_implicit); ``soft``: E = 10 MPa, n = 0.4, K_w = 2.2e8 Pa (the
+    issue's second set), its undrained start recomputed; ``kw``: the water's bulk modulus instead [Pa, or
+    "incompressible"]; ``cfl``: time.cfl instead of the case's 0.4."""
     case = copy.deepcopy(TERZAGHI)
     case["outputs"] = []
     case["solver"]["update"] = update
+    if cfl is not None:
+        case["time"]["cfl"] = cfl
     case["grid"]["cell_size"] = h
     case["grid"]["extent"][0] = 2 * h
     case["bodies"][0]["geometry"]["max"][0] = 2 * h
@@ -98,6 +116,8 @@ def terzaghi_case(h: float, soft: bool = False, update: str = "saturated") -> di
     if soft:
         soil["youngs_modulus"], soil["pore_water"]["porosity"] = 10e6, 0.4
         soil["pore_water"]["fluid"]["bulk_modulus"] = 2.2e8
+    if kw is not None:
+        soil["pore_water"]["fluid"]["bulk_modulus"] = kw
     c = terzaghi_constants(case)
     ds = -(c["q"] - c["p0"])  # the undrained effective stress increment, oedometric
     lat = ds * c["nu"] / (1 - c["nu"])
@@ -120,10 +140,11 @@ def degree(tv, terms=400):
     return 1 - float((8 / (m * m * np.pi ** 2) * np.exp(-m * m * np.pi ** 2 * tv / 4)).sum())
 
 
-def run_terzaghi(h: float, tvs=(0.05, 0.2, 0.5, 1.0), soft: bool = False, update: str = "saturated") -> list[dict]:
+def run_terzaghi(h: float, tvs=(0.05, 0.2, 0.5, 1.0), soft: bool = False, update: str = "saturated", kw=None,
+                 cfl: float | None = None) -> list[dict]:
     """At each Tv: the largest |p - p_exact| / p0 over the particles, and the top row's settlement against
-    p0 H / M U(Tv) (relative)."""
-    case = terzaghi_case(h, soft, update)
+    p0 H / M U(Tv) (relative); arguments as terzaghi_case."""
+    case = terzaghi_case(h, soft, update, kw, cfl)
     c = terzaghi_constants(case)
     sim = Simulation(scene_from_dict(case))
     st = sim.state
@@ -140,13 +161,13 @@ def run_terzaghi(h: float, tvs=(0.05, 0.2, 0.5, 1.0), soft: bool = False, update
     return out
 
 
-def undrained_column(h: float, k: float = 1e-9) -> dict:
+def undrained_column(h: float, k: float = 1e-9, update: str = "saturated", kw=None) -> dict:
     """The stiff Terzaghi column from rest (p = 0, sigma' = 0) loaded by q over 2 ms, with a conductivity so
     small that no water leaves in the 40 ms run, brought to rest by local damping (the column rings for about
     20 ms: at 10 ms its total stress is still 1.4 % off q): the interior's pore pressure against the
     oedometric (1D) Skempton ratio p / q = (K_w/n) / (M + K_w/n) = 1 / (1 + n M / K_w), and the ratio of pore
-    pressure to effective stress against (K_w/n) / M."""
-    case = copy.deepcopy(terzaghi_case(h))
+    pressure to effective stress against (K_w/n) / M (``update``, ``kw``: scheme)."""
+    case = copy.deepcopy(terzaghi_case(h, update=update, kw=kw))
     case["bodies"][0].pop("stress_offset")
     case["bodies"][0].pop("pore_pressure")
     case["materials"]["soil"]["pore_water"]["hydraulic_conductivity"] = k
@@ -161,7 +182,7 @@ def undrained_column(h: float, k: float = 1e-9) -> dict:
     exact = 1 / (1 + c["n"] * c["M"] / c["Kw"])
     split = (c["Kw"] / c["n"]) / c["M"]
     return {"h": h, "B": p / c["q"], "B_exact": exact, "error": p / c["q"] / exact - 1,
-            "split_error": p / -s / split - 1, "total_error": (s - p) / -c["q"] - 1}
+            "split_error": p / -s / split - 1 if math.isfinite(split) else float(-s / p), "total_error": (s - p) / -c["q"] - 1}
 
 
 def oedometer_undrained(h: float, q: float, sides: str = "roller", k: float = 1e-9,
@@ -204,12 +225,13 @@ def oedometer_undrained(h: float, q: float, sides: str = "roller", k: float = 1e
             "effective": s, "least": least, "steps": sim.step_count}
 
 
-def seepage_column(h: float, k: float = 1e-2, end: float = 0.3) -> dict:
+def seepage_column(h: float, k: float = 1e-2, end: float = 0.3, update: str = "saturated", kw=None) -> dict:
     """Steady downward seepage through a saturated column drained at its top (free surface) and at its base
     (a drained slip wall: water leaves, the skeleton stays), between impermeable slip walls: the pore
     pressure falls to 0 and the water flows under the unit gradient i = 1 of its own weight. Returns the
     Darcy flux q = n (v_w - v_s) averaged over the rows more than two cells from the ends, against k i
-    (g / g0: the conductivity is given at standard gravity), and the largest |p| there over rho_w g H."""
+    (g / g0: the conductivity is given at standard gravity), and the largest |p| there over rho_w g H
+    (``update``, ``kw``: scheme)."""
     n, g, H = 0.4, 9.81, 1.0
     case = {"name": "seepage", "dimension": 2,
             "grid": {"origin": [0, 0], "extent": [0.2, 1.2], "cell_size": h, "shape_function": "linear"},
@@ -224,7 +246,7 @@ def seepage_column(h: float, k: float = 1e-2, end: float = 0.3) -> dict:
             "boundaries": [{"type": "wall", "side": "y-", "condition": "slip", "drainage": "drained"},
                            {"type": "wall", "side": "x-", "condition": "slip"},
                            {"type": "wall", "side": "x+", "condition": "slip"}]}
-    sim = Simulation(scene_from_dict(case))
+    sim = Simulation(scene_from_dict(scheme(case, update, kw)))
     st = sim.state
     run_to(sim, end)
     inner = (st.p_x0[:, 1] > 2 * h) & (st.p_x0[:, 1] < H - 2 * h)

@@ -1,0 +1,94 @@
+"""The semi-implicit step's linear solve: conjugate gradients (scipy.sparse.linalg.cg) preconditioned by one
+V-cycle of pyamg's smoothed aggregation (Vanek, Mandel & Brezina 1996, Computing 56:179) on the symmetric
+positive definite pressure system (pressure_system.py).
+
+The multigrid hierarchy costs several solves to build, and any symmetric positive definite preconditioner
+keeps CG exact, so one hierarchy serves while the unknown nodes stay the same, for at most ``rebuild_interval``
+steps, and until the iterations reach twice those of its first solve (the particles have moved enough to
+matter).  The last increment starts the next solve.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.linalg import cg
+
+from geompm.errors import SimulationError
+
+
+class PressureSolver:
+    def __init__(self, tolerance: float, max_iterations: int, rebuild_interval: int):
+        self.tolerance = float(tolerance)
+        self.max_iterations = int(max_iterations)
+        self.rebuild_interval = int(rebuild_interval)
+        self._nodes = None  # the unknown nodes' window indices and the window (lo) of the hierarchy
+        self._lo = None
+        self._M = None
+        self._age = 0
+        self._first = 0
+        self._x = None
+        #: the last solve's iterations, its relative residual, seconds in the solve (hierarchy included),
+        #: unknowns; and the run's totals
+        self.iterations = 0
+        self.residual = 0.0
+        self.seconds = 0.0
+        self.unknowns = 0
+        self.total_iterations = 0
+        self.total_seconds = 0.0
+        self.solves = 0
+        self.builds = 0
+
+    def _same_nodes(self, nodes, lo) -> bool:
+        return (self._nodes is not None and self._nodes.shape == nodes.shape and np.array_equal(self._lo, lo)
+                and np.array_equal(self._nodes, nodes))
+
+    def solve(self, A: sp.csr_matrix, b: np.ndarray, nodes: np.ndarray, lo, where: str) -> np.ndarray:
+        """x with A x = b to the relative residual ``tolerance``; SimulationError (exit 3) naming ``where``
+        (the step) and the residual if CG does not reach it within ``max_iterations``."""
+        import pyamg
+
+        t0 = time.perf_counter()
+        self.unknowns = b.size
+        norm = float(np.linalg.norm(b))
+        if b.size == 0 or norm == 0.0:
+            self.iterations, self.residual = 0, 0.0
+            self._x = np.zeros(b.size)
+            self.seconds = time.perf_counter() - t0
+            return self._x
+        same = self._same_nodes(nodes, lo)
+        if (not same or self._M is None or self._age >= self.rebuild_interval
+                or (self._first > 0 and self.iterations > 2 * self._first)):
+            ml = pyamg.smoothed_aggregation_solver(A, symmetry="symmetric", max_coarse=500)
+            self._M = ml.aspreconditioner(cycle="V")
+            self._nodes, self._lo = nodes.copy(), np.array(lo)
+            self._age, self._first = 0, 0
+            self.builds += 1
+        x0 = self._x if same and self._x is not None and self._x.size == b.size else None
+        count = [0]
+
+        def tick(_):
+            count[0] += 1
+
+        x, info = cg(A, b, x0=x0, rtol=self.tolerance, atol=0.0, maxiter=self.max_iterations, M=self._M,
+                     callback=tick)
+        self.residual = float(np.linalg.norm(b - A @ x)) / norm
+        self.iterations = count[0]
+        if self._first == 0:
+            self._first = max(count[0], 1)
+        self._age += 1
+        self.seconds = time.perf_counter() - t0
+        self.total_iterations += count[0]
+        self.total_seconds += self.seconds
+        self.solves += 1
+        if info != 0 or not np.isfinite(self.residual):
+            raise SimulationError(
+                f"the pore pressure's solve did not converge at {where}: relative residual {self.residual:.3g} "
+                f"after {count[0]} iterations (solver.pressure_solver.tolerance {self.tolerance:g}, max_iterations "
+                f"{self.max_iterations}). Likely causes: a step too long for the skeleton (lower time.cfl), a "
+                "blow-up, or a body sealed from every drained surface with incompressible water; raise "
+                "solver.pressure_solver.max_iterations if the residual was still falling")
+        self._x = x
+        return x
