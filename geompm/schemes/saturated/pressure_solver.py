@@ -2,10 +2,11 @@
 V-cycle of pyamg's smoothed aggregation (Vanek, Mandel & Brezina 1996, Computing 56:179) on the symmetric
 positive definite pressure system (pressure_system.py).
 
-The multigrid hierarchy costs several solves to build, and any symmetric positive definite preconditioner
-keeps CG exact, so one hierarchy serves while the unknown nodes stay the same, for at most ``rebuild_interval``
-steps, and until the iterations reach twice those of its first solve (the particles have moved enough to
-matter).  The last increment starts the next solve.
+The system has a row per node of the step's grid window (pressure_system.py), so its size lasts while the
+window does.  The multigrid hierarchy costs several solves to build, and any symmetric positive definite
+preconditioner keeps CG exact, so one hierarchy serves while the window stays the same, for at most
+``rebuild_interval`` steps, and until the iterations reach twice those of its first solve (the water has moved
+enough to matter).  The last increment starts the next solve.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ class PressureSolver:
         self.tolerance = float(tolerance)
         self.max_iterations = int(max_iterations)
         self.rebuild_interval = int(rebuild_interval)
-        self._nodes = None  # the unknown nodes' window indices and the window (lo) of the hierarchy
+        self._size = -1  # the system's size and the window (lo) of the hierarchy
         self._lo = None
         self._M = None
         self._age = 0
@@ -41,29 +42,26 @@ class PressureSolver:
         self.solves = 0
         self.builds = 0
 
-    def _same_nodes(self, nodes, lo) -> bool:
-        return (self._nodes is not None and self._nodes.shape == nodes.shape and np.array_equal(self._lo, lo)
-                and np.array_equal(self._nodes, nodes))
-
-    def solve(self, A: sp.csr_matrix, b: np.ndarray, nodes: np.ndarray, lo, where: str) -> np.ndarray:
-        """x with A x = b to the relative residual ``tolerance``; SimulationError (exit 3) naming ``where``
-        (the step) and the residual if CG does not reach it within ``max_iterations``."""
+    def solve(self, A: sp.csr_matrix, b: np.ndarray, unknowns: int, lo, where: str) -> np.ndarray:
+        """x with A x = b to the relative residual ``tolerance`` (``unknowns``: the rows that are not the
+        identity, reported); SimulationError (exit 3) naming ``where`` (the step) and the residual if CG does
+        not reach it within ``max_iterations``."""
         import pyamg
 
         t0 = time.perf_counter()
-        self.unknowns = b.size
+        self.unknowns = unknowns
         norm = float(np.linalg.norm(b))
         if b.size == 0 or norm == 0.0:
             self.iterations, self.residual = 0, 0.0
             self._x = np.zeros(b.size)
             self.seconds = time.perf_counter() - t0
             return self._x
-        same = self._same_nodes(nodes, lo)
+        same = b.size == self._size and np.array_equal(self._lo, lo)
         if (not same or self._M is None or self._age >= self.rebuild_interval
                 or (self._first > 0 and self.iterations > 2 * self._first)):
             ml = pyamg.smoothed_aggregation_solver(A, symmetry="symmetric", max_coarse=500)
             self._M = ml.aspreconditioner(cycle="V")
-            self._nodes, self._lo = nodes.copy(), np.array(lo)
+            self._size, self._lo = b.size, np.array(lo)
             self._age, self._first = 0, 0
             self.builds += 1
         x0 = self._x if same and self._x is not None and self._x.size == b.size else None

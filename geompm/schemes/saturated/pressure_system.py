@@ -7,7 +7,8 @@ first node and the cells coloured by that node's index modulo the stencil's widt
 Two cells of one colour are at least S nodes apart along some axis, so their particles' stencils share no
 node: each colour's cells run in parallel, the colours one after the other.  A node's band holds its
 (2S - 1)^d neighbours' coefficients (the pairs two stencils can couple): 9 / 25 / 49 entries per node in 2D,
-27 / 125 / 343 in 3D for linear / quadratic / cubic shape functions.
+27 / 125 / 343 in 3D for linear / quadratic / cubic shape functions.  The system has a row per window node,
+the nodes without an unknown increment (dp = 0) as identity rows.
 """
 
 from __future__ import annotations
@@ -127,39 +128,46 @@ def neighbour(i, di, dj, dk, nloc, d):
 
 
 @njit(parallel=True, cache=True)
-def band_row_counts(band, nodes, number, nloc, S, counts):
-    """counts[r]: the nonzero couplings of unknown row r (node nodes[r]) to unknown nodes (number[j] >= 0)."""
+def band_row_counts(band, unknown, nloc, S, counts):
+    """counts[I]: the entries of node I's row in the window's system: its nonzero couplings to unknown nodes
+    where it is unknown itself (unknown[I] = 1), 1 (the identity: dp = 0) where it is not."""
     d = nloc.shape[0]
     Sz = S if d == 3 else 1
-    for r in prange(nodes.shape[0]):
-        i = nodes[r]
+    for i in prange(unknown.shape[0]):
+        if unknown[i] == 0:
+            counts[i] = 1
+            continue
         c = 0
         for di in range(1 - S, S):
             for dj in range(1 - S, S):
                 for dk in range(1 - Sz, Sz):
                     j = neighbour(i, di, dj, dk, nloc, d)
-                    if j >= 0 and number[j] >= 0 and band[i, band_offset(di, dj, dk, S, d)] != 0.0:
+                    if j >= 0 and unknown[j] != 0 and band[i, band_offset(di, dj, dk, S, d)] != 0.0:
                         c += 1
-        counts[r] = c
+        counts[i] = c
 
 
 @njit(parallel=True, cache=True)
-def band_csr_fill(band, nodes, number, nloc, S, indptr, indices, data):
-    """The CSR rows of the unknown nodes (after band_row_counts and its cumulative sum ``indptr``), columns
-    in ascending order."""
+def band_csr_fill(band, unknown, nloc, S, indptr, indices, data):
+    """The CSR rows of the window's system (after band_row_counts and its cumulative sum ``indptr``), columns
+    in ascending order: one row per window node, so that its size (and a preconditioner built for it) lasts
+    while the window does, whichever nodes the water reaches."""
     d = nloc.shape[0]
     Sz = S if d == 3 else 1
-    for r in prange(nodes.shape[0]):
-        i = nodes[r]
-        at = indptr[r]
+    for i in prange(unknown.shape[0]):
+        at = indptr[i]
+        if unknown[i] == 0:
+            indices[at] = i
+            data[at] = 1.0
+            continue
         for di in range(1 - S, S):
             for dj in range(1 - S, S):
                 for dk in range(1 - Sz, Sz):
                     j = neighbour(i, di, dj, dk, nloc, d)
-                    if j >= 0 and number[j] >= 0:
+                    if j >= 0 and unknown[j] != 0:
                         v = band[i, band_offset(di, dj, dk, S, d)]
                         if v != 0.0:
-                            indices[at] = number[j]
+                            indices[at] = j
                             data[at] = v
                             at += 1
 

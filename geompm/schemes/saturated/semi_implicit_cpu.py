@@ -78,22 +78,20 @@ class SemiImplicitCpu(SaturatedCpu):
         centre = ps.band_offset(0, 0, 0, self.S, sc.dim)
         be.each(pj.node_unknown_one, nn, self.g_fill[:nn], self.g_w[:nn], band, centre, tp.FREE_SURFACE_FILL,
                 be.mass_eps, g.h ** sc.dim, self.g_unknown[:nn])
-        nodes = np.flatnonzero(self.g_unknown[:nn]).astype(np.int64)
-        number = np.full(nn, -1, np.int64)
-        number[nodes] = np.arange(nodes.size)
-        counts = np.zeros(nodes.size, np.int64)
+        unknown = self.g_unknown[:nn]
+        counts = np.zeros(nn, np.int64)
         nloc_arr = np.asarray(nloc, np.int64)
-        ps.band_row_counts(band, nodes, number, nloc_arr, self.S, counts)
-        indptr = np.zeros(nodes.size + 1, np.int64)
+        ps.band_row_counts(band, unknown, nloc_arr, self.S, counts)
+        indptr = np.zeros(nn + 1, np.int64)
         np.cumsum(counts, out=indptr[1:])
         indices = np.zeros(indptr[-1], np.int32)
         data = np.zeros(indptr[-1])
-        ps.band_csr_fill(band, nodes, number, nloc_arr, self.S, indptr, indices, data)
-        A = sp.csr_matrix((data, indices, indptr), shape=(nodes.size, nodes.size))
-        x = self.solver.solve(A, rhs[nodes].copy(), nodes, view.lo, where)
+        ps.band_csr_fill(band, unknown, nloc_arr, self.S, indptr, indices, data)
+        A = sp.csr_matrix((data, indices, indptr), shape=(nn, nn))
+        b = rhs * unknown
         g_dp = self.g_dp[:nn]
-        g_dp[:] = 0.0
-        g_dp[nodes] = x
+        g_dp[:] = self.solver.solve(A, b, int(unknown.sum()), view.lo, where)
+        g_dp *= unknown  # the identity rows' round-off (a warm start from a step where they were unknown)
         be.each(tp.smooth_gather_one, n, self.tag, P.p_x, P.p_drained, g_dp, self._origin, g.h, g.kind, lo, nloc,
                 self.p_dps)
         g_f = self.g_f[:nn]
