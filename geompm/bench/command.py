@@ -17,7 +17,9 @@ Checks printed under the table:
   particles are: within 20 %);
 - ``mixed``: each ``<scene>/permuted`` variant (particles shuffled, the spatial
   sort on) against ``<scene>/ordered`` (seeding order): within 15 %, with the
-  sort's own cost; ``<scene>/permuted_nosort`` shows what the sort buys.
+  sort's own cost; ``<scene>/permuted_nosort`` shows what the sort buys;
+- ``ratio``: each variant's ns per particle-step against the first's, and the share of its time its scheme's
+  own solve took (Scheme.timings: the semi-implicit step's pressure solve).
 """
 
 from __future__ import annotations
@@ -116,6 +118,24 @@ def row(label: str, r: dict) -> str:
             f"{r['peak_rss_bytes'] / 2**20:>9.0f}{r['bytes_per_particle']:>11.0f}{r['threads']:>4}{start}")
 
 
+def ratio_lines(name: str, ok: list[tuple[str, dict]]) -> list[str]:
+    """Each variant's ns per particle-step against the first's, and the share of its time its scheme's solve
+    took (``scheme_timings``: the semi-implicit step's pressure solve) with its iterations per solve."""
+    base_label, base = ok[0]
+    lines = []
+    for label, r in ok:
+        t = r.get("scheme_timings") or {}
+        text = f"{name}: {label} {r['ns_per_particle_step']:.0f} ns per particle-step"
+        if label != base_label:
+            text += f", {r['ns_per_particle_step'] / base['ns_per_particle_step']:.2f}x {base_label}'s"
+        if t.get("solves"):
+            text += (f"; the pressure solve {100 * t['solve_s'] / r['wall_s']:.0f} % of its time, "
+                     f"{t['solve_iterations'] / t['solves']:.1f} CG iterations per solve, "
+                     f"{t['hierarchy_builds']:.0f} hierarchies built, {t['unknowns']:.0f} unknowns")
+        lines.append(text)
+    return lines
+
+
 def check_lines(name: str, spec: dict, results: list[tuple[str, dict]]) -> list[str]:
     ok = [(label, r) for label, r in results if "error" not in r]
     if len(ok) < 2 or not spec.get("check"):
@@ -129,6 +149,8 @@ def check_lines(name: str, spec: dict, results: list[tuple[str, dict]]) -> list[
                 f"({verdict} the {SPREAD_LIMIT:.0%} target)"]
     if spec["check"] == "mixed":
         return mixed_lines(name, dict(ok))
+    if spec["check"] == "ratio":
+        return ratio_lines(name, ok)
     base_label, base = ok[0]
     lines = []
     for label, r in ok[1:]:

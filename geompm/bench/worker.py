@@ -84,10 +84,12 @@ def measure(case: str, steps: int, sets: list[str], permute: bool = False) -> di
     first_sort_s = sort_clock[0]  # the sort before step 0: of the seeding (or permuted) order
     runner.advance(math.inf)
     sort_clock[:] = [0.0, 0]
+    before = scene.scheme.timings(sim)
     t0 = time.perf_counter()
     for _ in range(steps):
         runner.advance(math.inf)
     wall = time.perf_counter() - t0
+    after = scene.scheme.timings(sim)
     n = sim.state.n
     view = sim.view
     model_bytes = sim.state.nbytes() + sim.buffers.nbytes() + _stage_bytes(sim.scene.stages)
@@ -116,6 +118,7 @@ def measure(case: str, steps: int, sets: list[str], permute: bool = False) -> di
         "sort_s": sort_clock[0],
         "sort_ns_per_particle": sort_clock[0] / max(sort_clock[1], 1) / n * 1e9,
         "first_sort_ns_per_particle": first_sort_s / n * 1e9,
+        "scheme_timings": {k: after[k] - before.get(k, 0.0) for k in after},
     }
 
 

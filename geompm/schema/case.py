@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal, Union
 
-from pydantic import BaseModel, ConfigDict, Field, PositiveFloat, field_validator, model_validator
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 Vector = list[float]
 
@@ -149,10 +149,19 @@ class PoreFluidSpec(Strict):
     """The water filling a saturated soil's pores (docs/pore-water.md)."""
 
     density: float = Field(1000.0, gt=0, description="Water density rho_w [kg/m3]")
-    bulk_modulus: PositiveFloat | Literal["incompressible"] = Field(
+    bulk_modulus: float | str = Field(
         2.2e9, description="Water bulk modulus K_w [Pa] (2.2e9 for water; a smaller value shortens an explicit "
         "run: `geompm validate` reports its effect on c_v), or \"incompressible\" (solver.update "
         "'saturated_semi_implicit' only)")
+
+    @field_validator("bulk_modulus", mode="before")
+    @classmethod
+    def _modulus_or_incompressible(cls, v):
+        if v == "incompressible":
+            return v
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not v > 0:
+            raise ValueError(f"must be a bulk modulus > 0 Pa (2.2e9 for water) or \"incompressible\", got {v!r}")
+        return float(v)
     viscosity: float = Field(1.0e-3, gt=0, description="Dynamic viscosity mu_w [Pa s] (1e-3 for water at 20 C)")
 
 

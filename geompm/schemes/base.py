@@ -131,6 +131,11 @@ class Scheme:
         for name in self.passes:
             getattr(self, name)(run, dt)
 
+    def timings(self, run) -> dict[str, float]:
+        """Running totals of the scheme's own costs that `geompm bench` reports (seconds and counts since the
+        run began); none for a scheme without a solve."""
+        return {}
+
     # -- the core's passes, which schemes list by name ---------------------------------------------------------
     def window(self, run, dt: float) -> None:
         """Particles to their rank, the spatial sort when due, the step's grid window (run.view)."""

@@ -56,6 +56,20 @@ def _pw(case):
     (lambda c: _pw(c).update(cavitation_pressure=5e3), "materials.soil.pore_water.cavitation_pressure",
      "must be <= 0.0"),
     (lambda c: c["solver"].update(transfer="apic"), "solver.transfer", "unstable in motion"),
+    (lambda c: _pw(c)["fluid"].update(bulk_modulus="incompressible"), "materials.soil.pore_water.fluid.bulk_modulus",
+     "saturated_semi_implicit"),
+    (lambda c: _pw(c)["fluid"].update(bulk_modulus=-1.0), "materials.soil.pore_water.fluid.bulk_modulus",
+     "bulk modulus > 0 Pa"),
+    (lambda c: _pw(c)["fluid"].update(bulk_modulus="water"), "materials.soil.pore_water.fluid.bulk_modulus",
+     "or \"incompressible\""),
+    (lambda c: c["solver"].update(update="saturated_semi_implicit", backend="cuda"), "solver.backend",
+     "CPU backend only"),
+    (lambda c: c["solver"].update(update="saturated_semi_implicit", pressure_solver={"tolerance": 0.0}),
+     "solver.pressure_solver.tolerance", "must be > 0"),
+    (lambda c: c["solver"].update(update="saturated_semi_implicit", pressure_solver={"tolerance": 1.0}),
+     "solver.pressure_solver.tolerance", "must be < 1"),
+    (lambda c: c["solver"].update(update="saturated_semi_implicit", pressure_solver={"max_iterations": 0}),
+     "solver.pressure_solver.max_iterations", ">= 1"),
 ])
 def test_bad_pore_water_input_is_refused_with_its_path(edit, path, words):
     """Each edit of the valid Terzaghi case is refused before any work, naming its JSON path."""
@@ -96,3 +110,46 @@ def test_apic_with_linear_hats_is_warned_in_a_dry_case():
     assert len(hits) == 1 and "unstable in motion" in hits[0] and "'flip'" in hits[0], hits
     dry["solver"]["transfer"] = "flip"
     assert [p for p, _ in parse_case(dry, CASES).warnings if p == "solver.transfer"] == []
+
+
+def test_validate_reports_the_semi_implicit_step(capsys):
+    """The Terzaghi case with water's K_w = 2.2e9 Pa, semi-implicit: the skeleton's wave (266.7 m/s =
+    sqrt(M / rho_d), M = 131.9 MPa, rho_d = 1 855 kg/m3) sets the step, and the explicit step's undrained wave
+    sqrt((M + K_w/n) / rho_sat) = 1 861 m/s would take 6.98 times more steps; c_v with K_w 13.21 m2/s,
+    13.45 m2/s incompressible."""
+    assert main(["validate", str(CASES / "terzaghi_consolidation.json"), "--set",
+                 "solver.update=saturated_semi_implicit", "--set",
+                 "materials.soil.pore_water.fluid.bulk_modulus=2.2e9"]) == 0
+    out = capsys.readouterr().out
+    assert "pore water: semi-implicit" in out and "266.7 m/s" in out and "1861 m/s" in out
+    assert "6.98 times more steps" in out and "c_v = 13.21 m2/s" in out and "13.45 m2/s with incompressible" in out
+
+
+def test_a_periodic_axis_is_refused_by_the_semi_implicit_step():
+    """The flowing strip (periodic along x) with the semi-implicit step: CaseError at set-up, before any step,
+    naming the boundary and the explicit scheme that runs it."""
+    from geompm.api import scene_from_dict
+    from geompm.testing.verification.flowing_strip import strip_case
+
+    case = strip_case(0.04)
+    case["solver"]["update"] = "saturated_semi_implicit"
+    with pytest.raises(CaseError) as err:
+        scene_from_dict(case)
+    assert any(p == "boundaries" and "periodic" in m and "saturated" in m for p, m in err.value.problems)
+
+
+def test_a_pressure_solve_that_does_not_converge_stops_with_exit_3(tmp_path, caplog):
+    """The Terzaghi case, semi-implicit, allowed one CG iteration to a relative residual of 1e-12: `geompm run`
+    stops at the first step with exit 3, the message naming the step and the residual, and the run folder's
+    status.json says it failed."""
+    case = copy.deepcopy(TERZAGHI)
+    case["solver"].update(update="saturated_semi_implicit", pressure_solver={"max_iterations": 1, "tolerance": 1e-12})
+    path = tmp_path / "case.json"
+    path.write_text(json.dumps(case))
+    out = tmp_path / "run"
+    rc = main(["run", "--quiet", "--out", str(out), str(path)])
+    err = caplog.text
+    assert rc == 3, err
+    assert "did not converge at step 1" in err and "relative residual" in err, err
+    status = json.loads((out / "status.json").read_text())
+    assert status["finished"] is False and "did not converge" in status["reason"], status

@@ -22,8 +22,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from geompm.contract.stages import BOUNDARY
 from geompm.schemes.saturated.scheme import Saturated
 
@@ -106,15 +104,16 @@ class SaturatedSemiImplicit(Saturated):
                     "pressure_solve_seconds": s.seconds})
         return out
 
+    def timings(self, run) -> dict[str, float]:
+        """The pressure solves so far: ``solve_s`` (seconds, hierarchy builds included), ``solves``,
+        ``solve_iterations``, ``hierarchy_builds`` and the last solve's ``unknowns``."""
+        s = run.backend.scheme_passes.solver
+        return {"solve_s": s.total_seconds, "solves": float(s.solves), "solve_iterations": float(s.total_iterations),
+                "hierarchy_builds": float(s.builds), "unknowns": float(s.unknowns)}
+
     def report(self, scene) -> list[str]:
         from geompm.schemes.saturated.report import semi_implicit_lines
 
         return semi_implicit_lines(scene, self.water)
 
 
-def solve_totals(sim) -> dict[str, float]:
-    """The run's pressure solves so far: count, total iterations, seconds, hierarchy builds (benchmarks)."""
-    s = sim.backend.scheme_passes.solver
-    return {"solves": s.solves, "iterations": s.total_iterations, "seconds": s.total_seconds, "builds": s.builds,
-            "iterations_per_solve": s.total_iterations / max(s.solves, 1),
-            "unknowns": s.unknowns, "mean_unknowns": float(np.nan)}
