@@ -90,7 +90,7 @@ class SemiImplicitCpu(SaturatedCpu):
         A = sp.csr_matrix((data, indices, indptr), shape=(nn, nn))
         b = rhs * unknown
         g_dp = self.g_dp[:nn]
-        g_dp[:] = self.solver.solve(A, b, int(unknown.sum()), view.lo, where)
+        g_dp[:] = self.solver.solve(A, b, int(unknown.sum()), view.lo, dt, where)
         g_dp *= unknown  # the identity rows' round-off (a warm start from a step where they were unknown)
         be.each(tp.smooth_gather_one, n, self.tag, P.p_x, P.p_drained, g_dp, self._origin, g.h, g.kind, lo, nloc,
                 self.p_dps)
