@@ -120,3 +120,24 @@ def node_unknown_one(i, g_fill, g_w, band, centre, fill_min, mass_eps, cell_volu
     kernels.add_increment_one)."""
     wet = g_w[i, NODE_WATER.mass] > mass_eps and band[i, centre] > 0.0 and g_w[i, NODE_WATER.volume] >= SUPPORT_MIN * cell_volume
     g_unknown[i] = 1 if wet and g_fill[i] >= fill_min else 0
+
+
+@njit(cache=True, inline="always")
+def affine_flux_one(p, p_C, p_Cw, p_n, p_wmass):
+    """Particle p after the G2P (APIC): the isotropic part of the mixture's volume-flux divergence its
+    affine matrices carry, r = (1 - n) tr C_s + n tr C_w, taken off both (C -= r/d I).  The projection makes
+    the grid's flux divergence-free only approximately; the affine matrices would carry the remainder to the
+    next step's P2G, where the projection would remove it again and add its increment to the pressure each
+    step: a saturated APIC flow drifted into suction (-20 kPa in 0.4 s on the 2D flume, where PIC and the
+    explicit step held -4 kPa)."""
+    if p_wmass[p] <= 0.0:
+        return
+    d = p_C.shape[1]
+    n = p_n[p]
+    r = 0.0
+    for a in range(d):
+        r += (1.0 - n) * p_C[p, a, a] + n * p_Cw[p, a, a]
+    r /= d
+    for a in range(d):
+        p_C[p, a, a] -= r
+        p_Cw[p, a, a] -= r

@@ -37,7 +37,7 @@ class SaturatedSemiImplicit(Saturated):
     splits_over_ranks = False
     incompressible_water = True
     passes = ("window", "two_phase_p2g", "grid_update", "loads_and_damping", "relative_velocity", "contacts",
-              "split", "project", "water_step", "g2p", "particle_stages", "porosity", "stress_update")
+              "split", "project", "water_step", "g2p", "affine_flux", "particle_stages", "porosity", "stress_update")
 
     @classmethod
     def problems(cls, case, loaded):
@@ -84,6 +84,11 @@ class SaturatedSemiImplicit(Saturated):
     def water_step(self, run, dt: float) -> None:
         """The water's particle velocity from the corrected grid; the increment added to the pore pressure."""
         run.backend.scheme_passes.water_step(run.view, dt)
+
+    def affine_flux(self, run, dt: float) -> None:
+        """APIC: the flux divergence the particles' affine matrices carry taken off them
+        (projection.affine_flux_one); nothing for the other transfers."""
+        run.backend.scheme_passes.affine_flux()
 
     def wave_speed(self, scene, state, finite_only: bool = False, comm=None) -> float:
         """The skeleton's wave (the law's speed at the dry density), plus how much faster than the solid the

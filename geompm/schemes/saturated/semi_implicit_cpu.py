@@ -114,3 +114,9 @@ class SemiImplicitCpu(SaturatedCpu):
         self.water_velocity(view, dt)
         self.be.each(tp.add_increment_one, self.n, P.p_pore_carried, P.p_pore, self.p_dps, P.p_drained,
                      P.p_material, self.table)
+
+    def affine_flux(self) -> None:
+        """APIC only: projection.affine_flux_one on every particle."""
+        if self.affine and self.scene.transfer == "apic":
+            P = self.particles()
+            self.be.each(pj.affine_flux_one, self.n, P.p_C, P.p_Cw, P.p_n, self.p_wmass)
