@@ -75,7 +75,11 @@ def first_step_estimate(scene) -> tuple[float, int, float]:
 
     st = scene.state
     nodes = window_nodes(st.p_x.min(axis=0), st.p_x.max(axis=0), scene.grid.h)
-    return st.nbytes() + grid_bytes(nodes, scene.dim), nodes, stable_dt(scene, st)
+    from geompm.kernels.shape import KIND
+
+    shape = next(k for k, v in KIND.items() if v == scene.grid.kind)
+    extra = nodes * type(scene.scheme).node_bytes(scene.dim, shape)
+    return st.nbytes() + grid_bytes(nodes, scene.dim) + extra, nodes, stable_dt(scene, st)
 
 
 def stage_warnings(scene, emit, loaded=None) -> None:

@@ -384,7 +384,7 @@ def _parse_valid_numbers(raw: dict, base_dir: Path) -> LoadedCase:
         loaded.warnings.extend(loaded.scheme.warnings(case))
     loaded.warnings.extend(plausibility_warnings(loaded))
     if not problems:
-        _check_memory(case, problems)
+        _check_memory(case, problems, loaded.scheme)
     if problems:
         raise CaseError(problems, warnings=loaded.warnings)
     return loaded
@@ -444,7 +444,7 @@ def duplicate_labels(loaded) -> list[tuple[str, str]]:
     return out
 
 
-def _check_memory(case: Case, problems) -> None:
+def _check_memory(case: Case, problems, scheme=None) -> None:
     """Refuse a case whose particles and grid window would not fit in the available memory.
 
     Particle counts come from each body's bounding box (an upper bound), before
@@ -467,7 +467,9 @@ def _check_memory(case: Case, problems) -> None:
         hi = bhi if hi is None else np.maximum(hi, bhi)
     if lo is None:
         return
-    need = particles * particle_bytes(dim) + grid_bytes(window_nodes(lo, hi, h), dim)
+    nodes = window_nodes(lo, hi, h)
+    extra = scheme.node_bytes(dim, case.grid.shape_function) if scheme is not None else 0
+    need = particles * particle_bytes(dim) + grid_bytes(nodes, dim) + nodes * extra
     have = available_memory()
     if have is not None and need > have:
         problems.append(("grid.cell_size", f"the case needs about {need / 2**30:.1f} GiB "

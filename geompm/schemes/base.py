@@ -94,6 +94,12 @@ class Scheme:
         """(JSON path, sentence) of settings that run but that the scheme advises against."""
         return []
 
+    @classmethod
+    def node_bytes(cls, dim: int, shape_function: str) -> int:
+        """Bytes per window node the scheme's own arrays add to the core's grid (the memory check before any
+        work, schema/load.py, and `geompm validate`'s estimate)."""
+        return 0
+
     # -- the set-up (setup/assemble.py) ----------------------------------------------------------------
     def __init__(self, case=None, names=()):
         """Resolve what the scheme needs of ``case`` (its materials in ``names`` order) once."""

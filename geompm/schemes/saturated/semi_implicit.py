@@ -48,6 +48,15 @@ class SaturatedSemiImplicit(Saturated):
                                           "explicit 'saturated' scheme on a GPU (docs/pore-water.md)"))
         return out
 
+    @classmethod
+    def node_bytes(cls, dim: int, shape_function: str) -> int:
+        """The pressure system per window node: the band of (2S - 1)^d coefficients (8 bytes each), the CSR
+        rows (12 bytes per coefficient, at most the band's) and the smoothed-aggregation hierarchy (about the
+        matrix again: operator complexity 1.3-1.5 measured, benchmarks/results/2026-12-05-issue53), plus ten
+        nodal scalars; S = 2 / 3 / 4 for linear / quadratic / cubic shape functions."""
+        width = (2 * {"linear": 2, "quadratic": 3, "cubic": 4}[shape_function] - 1) ** dim
+        return 8 * width + 2 * 12 * width + 80
+
     def __init__(self, case=None, names=()):
         super().__init__(case, names)
         if self.water is not None:
