@@ -131,7 +131,7 @@ def ratio_lines(name: str, ok: list[tuple[str, dict]]) -> list[str]:
         if t.get("solves"):
             text += (f"; the pressure solve {100 * t['solve_s'] / r['wall_s']:.0f} % of its time, "
                      f"{t['solve_iterations'] / t['solves']:.1f} CG iterations per solve, "
-                     f"{t['hierarchy_builds']:.0f} hierarchies built, {t['unknowns']:.0f} unknowns")
+                     f"{t['hierarchy_builds']:.0f} hierarchies built")
         lines.append(text)
     return lines
 

@@ -78,6 +78,13 @@ def test_variant_checks_compute_ratios():
     dom = [("d:tight", {"wall_s": 2.0, "grid_cells": 100}), ("d:wide", {"wall_s": 2.3, "grid_cells": 800})]
     (line,) = check_lines("d", {"check": "domain"}, dom)
     assert "8x the grid cells" in line and "1.150x" in line and "within" in line
+    ratio = [("r:dp3d", {"wall_s": 1.0, "ns_per_particle_step": 150.0}),
+             ("r:si", {"wall_s": 10.0, "ns_per_particle_step": 3000.0,
+                       "scheme_timings": {"solve_s": 3.5, "solves": 20.0, "solve_iterations": 160.0,
+                                          "hierarchy_builds": 1.0}})]
+    first, second = check_lines("r", {"check": "ratio"}, ratio)
+    assert first == "r: r:dp3d 150 ns per particle-step"
+    assert "20.00x r:dp3d's" in second and "35 % of its time" in second and "8.0 CG iterations" in second
 
 
 def test_roofline_divides_the_right_figures():

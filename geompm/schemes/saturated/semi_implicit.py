@@ -51,9 +51,9 @@ class SaturatedSemiImplicit(Saturated):
     @classmethod
     def node_bytes(cls, dim: int, shape_function: str) -> int:
         """The pressure system per window node: the band of (2S - 1)^d coefficients (8 bytes each), the CSR
-        rows (12 bytes per coefficient, at most the band's) and the smoothed-aggregation hierarchy (about the
-        matrix again: operator complexity 1.3-1.5 measured, benchmarks/results/2026-12-05-issue53), plus ten
-        nodal scalars; S = 2 / 3 / 4 for linear / quadratic / cubic shape functions."""
+        rows (12 bytes per coefficient, at most the band's) and the smoothed-aggregation hierarchy (taken as the
+        matrix again: operator complexity 1.04 measured, its prolongators besides; benchmarks/results/
+        2026-12-05-issue53), plus ten nodal scalars; S = 2 / 3 / 4 for linear / quadratic / cubic shape functions."""
         width = (2 * {"linear": 2, "quadratic": 3, "cubic": 4}[shape_function] - 1) ** dim
         return 8 * width + 2 * 12 * width + 80
 
@@ -120,10 +120,10 @@ class SaturatedSemiImplicit(Saturated):
 
     def timings(self, run) -> dict[str, float]:
         """The pressure solves so far: ``solve_s`` (seconds, hierarchy builds included), ``solves``,
-        ``solve_iterations``, ``hierarchy_builds`` and the last solve's ``unknowns``."""
+        ``solve_iterations`` and ``hierarchy_builds``."""
         s = run.backend.scheme_passes.solver
         return {"solve_s": s.total_seconds, "solves": float(s.solves), "solve_iterations": float(s.total_iterations),
-                "hierarchy_builds": float(s.builds), "unknowns": float(s.unknowns)}
+                "hierarchy_builds": float(s.builds)}
 
     def report(self, scene) -> list[str]:
         from geompm.schemes.saturated.report import semi_implicit_lines
