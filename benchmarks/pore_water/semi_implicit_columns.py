@@ -23,28 +23,22 @@ def show(label, update, kw, r, t0):
     print(label, json.dumps(r), flush=True)
 
 
+def sizes(label, update, kw, run):
+    """``run(h)`` at each cell size, one line each."""
+    for h in SIZES:
+        t0 = time.perf_counter()
+        show(label, update, kw, run(h), t0)
+
+
 def main(which):
-    if "hydro" in which:
-        for update, kw in WATERS:
-            for h in SIZES:
-                t0 = time.perf_counter()
-                show("hydro", update, kw, ts.hydrostatic_column(h, update=update, kw=kw), t0)
-    if "quadratic" in which:
-        for update, kw in WATERS:
-            for h in SIZES:
-                t0 = time.perf_counter()
-                show("hydro-quadratic", update, kw, ts.hydrostatic_column(h, update=update, kw=kw, shape="quadratic"),
-                     t0)
-    if "undrained" in which:
-        for update, kw in WATERS:
-            for h in SIZES:
-                t0 = time.perf_counter()
-                show("undrained", update, kw, ts.undrained_column(h, update=update, kw=kw), t0)
-    if "seepage" in which:
-        for update, kw in WATERS:
-            for h in SIZES:
-                t0 = time.perf_counter()
-                show("seepage", update, kw, ts.seepage_column(h, update=update, kw=kw), t0)
+    columns = {"hydro": lambda u, k: lambda h: ts.hydrostatic_column(h, update=u, kw=k),
+               "hydro-quadratic": lambda u, k: lambda h: ts.hydrostatic_column(h, update=u, kw=k, shape="quadratic"),
+               "undrained": lambda u, k: lambda h: ts.undrained_column(h, update=u, kw=k),
+               "seepage": lambda u, k: lambda h: ts.seepage_column(h, update=u, kw=k)}
+    for label, run in columns.items():
+        if label.replace("hydro-quadratic", "quadratic") in which:
+            for update, kw in WATERS:
+                sizes(label, update, kw, run(update, kw))
     if "terzaghi" in which:
         for soft in (False, True):
             for update, kw in WATERS:
