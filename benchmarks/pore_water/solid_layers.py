@@ -2,7 +2,10 @@
 the bottom row's pore pressure against rho_w g depth and its drained fraction, at three cell sizes, with the
 solids' fill (schemes/saturated/solids.py) and without it (``before``: the solids counted as empty space).
 
-    python benchmarks/pore_water/solid_layers.py [OUT.json] [--cases box2d,stl3d,terrain3d,incline3d]
+    python benchmarks/pore_water/solid_layers.py [OUT.json] [--cases box2d,stl3d,terrain3d,incline3d,plane3d,
+                                                                     plane2d,plane2d_si]
+
+(plane2d_si: the 2D layer on a plane run by the semi-implicit step.)
 
 Raw output: benchmarks/results/2026-12-05-issue52/solid_layers.json.
 """
@@ -19,7 +22,8 @@ from geompm.schemes.saturated import solids
 from geompm.testing.verification import solid_layers as sl
 
 SIZES = {"box2d": (0.1, 0.05, 0.025), "stl3d": (0.1, 0.05, 0.04), "terrain3d": (0.1, 0.05, 0.025),
-         "incline3d": (0.1, 0.05, 0.04), "plane3d": (0.1, 0.05, 0.04)}
+         "incline3d": (0.1, 0.05, 0.04), "plane3d": (0.1, 0.05, 0.04), "plane2d": (0.1, 0.05, 0.025),
+         "plane2d_si": (0.1, 0.05, 0.025)}
 
 
 def case_for(name: str, h: float, where: Path):
@@ -31,6 +35,8 @@ def case_for(name: str, h: float, where: Path):
         return sl.terrain_3d(where, h, slope_deg=0.0)
     if name == "incline3d":
         return sl.terrain_3d(where, h, slope_deg=10.0)
+    if name.startswith("plane2d"):
+        return sl.inclined_plane_2d(h, update="saturated_semi_implicit" if name.endswith("_si") else "saturated")
     return sl.inclined_plane_3d(where, h, slope_deg=10.0)
 
 

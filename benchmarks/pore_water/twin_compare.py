@@ -2,7 +2,7 @@
 [N] at a few times, then each run's peak, its time, the final front, the steps and the static load (the force's
 mean over 2.4-2.5 s) (docs/pore-water.md, The semi-implicit step).
 
-    python benchmarks/pore_water/twin_compare.py LABEL=path/series.csv [...]
+    python benchmarks/pore_water/twin_compare.py LABEL=SERIES_CSV [LABEL=SERIES_CSV ...]
 """
 import csv, sys, numpy as np
 def load(f):

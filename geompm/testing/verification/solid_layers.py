@@ -108,6 +108,28 @@ def inclined_plane_3d(tmp_path, h: float, slope_deg: float = 10.0, end: float = 
     return case
 
 
+def inclined_plane_2d(h: float, slope_deg: float = 10.0, end: float = 0.2, update: str = "saturated") -> dict:
+    """A 1.6 m wide saturated layer, its top level at 0.8 m, on an analytic plane through (0.8, 0.2) at
+    ``slope_deg`` (friction 0.5), between slip walls, in 2D, run by the scheme ``update``: the oblique
+    boundary's error without a DEM or a third dimension."""
+    tan = math.tan(math.radians(slope_deg))
+
+    def ground(x):
+        return 0.2 - tan * (x - 0.8)
+
+    body = {"material": "soil", "geometry": {"type": "polygon",
+                                             "vertices": [[0.0, ground(0.0)], [1.6, ground(1.6)], [1.6, 0.8],
+                                                          [0.0, 0.8]]},
+            "particles_per_cell": 2, "initial_stress": "geostatic"}
+    case = _case("layer_on_plane_2d", 2, [0.0, 0.0], [1.6, 1.2], h, [0.0, -G], [body], end)
+    case["solver"]["update"] = update
+    normal = [math.sin(math.radians(slope_deg)), math.cos(math.radians(slope_deg))]
+    case["boundaries"] = [{"type": "wall", "side": s, "condition": "slip"} for s in ("x-", "x+")]
+    case["boundaries"].append({"type": "plane", "point": [0.8, 0.2], "normal": normal, "condition": "friction",
+                               "friction": 0.5})
+    return case
+
+
 def floor_path(case: dict) -> str:
     """The JSON path of the layer's floor: its obstacle, else its last boundary (the plane or the y- wall)."""
     if case.get("obstacles"):
