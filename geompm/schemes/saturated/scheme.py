@@ -29,9 +29,6 @@ from geompm.schemes.saturated.fields import FIELDS
 from geompm.schemes.saturated.kernels import WALL, WATER
 from geompm.schemes.saturated.solids import SolidFill
 
-#: the backend's passes of the scheme, by backend name (imported when a backend of that name asks)
-BACKEND_PASSES = {"cpu": ("geompm.schemes.saturated.cpu", "SaturatedCpu"),
-          "cuda": ("geompm.schemes.saturated.cuda", "SaturatedCuda")}
 
 
 class Saturated(Scheme):
@@ -43,6 +40,9 @@ class Saturated(Scheme):
     fields = FIELDS
     #: runs water of infinite bulk modulus (the pressure implicit: semi_implicit.py)
     incompressible_water = False
+    #: the backend's passes of the scheme, by backend name (imported when a backend of that name asks)
+    backend_modules = {"cpu": ("geompm.schemes.saturated.cpu", "SaturatedCpu"),
+                       "cuda": ("geompm.schemes.saturated.cuda", "SaturatedCuda")}
     body_width = 4  # saturated flag, water-table height, pore pressure, buoyant flag (setup.body_water)
 
     @classmethod
@@ -83,9 +83,9 @@ class Saturated(Scheme):
     def backend_passes(self, backend):
         import importlib
 
-        if backend.name not in BACKEND_PASSES:
-            raise NotImplementedError(f"the saturated scheme has no passes for the '{backend.name}' backend")
-        module, cls = BACKEND_PASSES[backend.name]
+        if backend.name not in self.backend_modules:
+            raise NotImplementedError(f"the scheme '{self.name}' has no passes for the '{backend.name}' backend")
+        module, cls = self.backend_modules[backend.name]
         return getattr(importlib.import_module(module), cls)(backend, self.water)
 
     passes = ("window", "two_phase_p2g", "grid_update", "loads_and_damping", "relative_velocity", "contacts",

@@ -25,9 +25,6 @@ import math
 from geompm.contract.stages import BOUNDARY
 from geompm.schemes.saturated.scheme import Saturated
 
-#: the backend's passes of the scheme, by backend name
-BACKEND_PASSES = {"cpu": ("geompm.schemes.saturated.semi_implicit_cpu", "SemiImplicitCpu")}
-
 
 class SaturatedSemiImplicit(Saturated):
     name = "saturated_semi_implicit"
@@ -36,13 +33,15 @@ class SaturatedSemiImplicit(Saturated):
     default = False
     splits_over_ranks = False
     incompressible_water = True
+    #: the CPU's passes only (scipy and pyamg on the host)
+    backend_modules = {"cpu": ("geompm.schemes.saturated.semi_implicit_cpu", "SemiImplicitCpu")}
     passes = ("window", "two_phase_p2g", "grid_update", "loads_and_damping", "relative_velocity", "contacts",
               "split", "project", "water_step", "g2p", "affine_flux", "particle_stages", "porosity", "stress_update")
 
     @classmethod
     def problems(cls, case, loaded):
         out = super().problems(case, loaded)
-        if case.solver.backend not in BACKEND_PASSES:
+        if case.solver.backend not in cls.backend_modules:
             out.append(("solver.backend", f"the semi-implicit two-phase step runs on the CPU backend only (its "
                                           "pressure solve is scipy and pyamg on the host); use \"cpu\", or the "
                                           "explicit 'saturated' scheme on a GPU (docs/pore-water.md)"))
@@ -71,15 +70,6 @@ class SaturatedSemiImplicit(Saturated):
             raise CaseError([("boundaries", f"the periodic boundary '{periodic[0]}' is not supported by the "
                                             "semi-implicit two-phase step (its pressure system does not fold "
                                             "over the periodic images); use solver.update \"saturated\"")])
-
-    def backend_passes(self, backend):
-        import importlib
-
-        if backend.name not in BACKEND_PASSES:
-            raise NotImplementedError(f"the semi-implicit two-phase step has no passes for the '{backend.name}' "
-                                      "backend")
-        module, cls = BACKEND_PASSES[backend.name]
-        return getattr(importlib.import_module(module), cls)(backend, self.water)
 
     def project(self, run, dt: float) -> None:
         """The pressure's increment solved on the grid, both phases corrected, the boundaries and obstacles
@@ -129,5 +119,3 @@ class SaturatedSemiImplicit(Saturated):
         from geompm.schemes.saturated.report import semi_implicit_lines
 
         return semi_implicit_lines(scene, self.water)
-
-

@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from geompm.kernels.shape import support
 from geompm.schemes.saturated import kernels as tp
 from geompm.schemes.saturated import pressure_system as ps
 from geompm.schemes.saturated import projection as pj
@@ -26,13 +27,12 @@ from geompm.schemes.saturated.pressure_solver import PressureSolver
 
 class SemiImplicitCpu(SaturatedCpu):
     def __init__(self, cpu, water):
+        self.S = support(cpu.scene.grid.kind)  # the stencil's width per axis
+        self.nb = (2 * self.S - 1) ** cpu.scene.dim  # a node's band: the offsets two stencils can couple
+        self.p_keys = self.p_coef = self.p_store = self.p_div = None
         super().__init__(cpu, water)
         spec = water.pressure_solver
         self.solver = PressureSolver(spec.tolerance, spec.max_iterations, spec.rebuild_interval)
-        self.S = len(self.tag)
-        self.nb = (2 * self.S - 1) ** self.scene.dim
-        self.band = np.zeros((0, self.nb))
-        self.p_keys = self.p_coef = self.p_store = self.p_div = None
 
     def _grid(self, cap):
         super()._grid(cap)
@@ -42,7 +42,7 @@ class SemiImplicitCpu(SaturatedCpu):
         self.g_unknown = np.zeros(cap, np.int64)
         self.g_scratch = np.zeros((cap, d))
         self.g_scratch_w = np.zeros((cap, d))
-        self.band = np.zeros((cap, getattr(self, "nb", 1)))
+        self.band = np.zeros((cap, self.nb))
 
     def _particles(self, n):
         if n != self.n:
@@ -62,8 +62,6 @@ class SemiImplicitCpu(SaturatedCpu):
         P = self.particles()
         n, nn = self.n, view.g_mass.shape[0]
         lo, nloc = self.window_index(view)
-        if self.band.shape[0] < self.cap or self.band.shape[1] != self.nb:
-            self.band = np.zeros((self.cap, self.nb))
         self._water_g2p(view, self.p_vw2, self.p_Cw2, 0.0)
         be.each(tp.flag_drained_one, n, self.p_fill, P.p_sat, P.p_n, P.p_material, self.table, P.p_drained)
         be.each(pj.flux_terms_one, n, P.p_mass, self.p_wmass, self.p_drag, P.p_vol, P.p_n, self.p_divs, self.p_divw,
