@@ -24,8 +24,7 @@ particles' quadrature, this is one symmetric positive definite system (pressure_
     sum_p V [ n/K_w N_I N_J + dt^2 c grad N_I . grad N_J ] dp_J = -dt sum_p V N_I div u*
 
 with dp = 0 at the free surface and drained nodes (their fill below FREE_SURFACE_FILL; the particles there
-hold p = 0, as in the explicit step) and the impermeable
-walls' natural condition (no flux).  The Laplacian in place of the discrete divergence of the discrete
+hold p = 0, as in the explicit step) and the impermeable walls' natural condition (no flux).  The Laplacian in place of the discrete divergence of the discrete
 gradient is the fractional step's own stabilisation of the equal-order pressure (Codina 2001, CMAME 190:1579):
 it has no checkerboard mode.
 """
@@ -116,9 +115,10 @@ def node_join_one(i, g_mass, g_vel, g_vw, g_w, mass_eps, g_rel, g_rel0, g_vpre):
 @njit(cache=True, inline="always")
 def node_unknown_one(i, g_fill, g_w, band, centre, fill_min, mass_eps, cell_volume, g_unknown):
     """Node i: 1 where its pressure increment is unknown (water around it, its own support at least
-    SUPPORT_MIN, its fill at least fill_min: not the free surface or a drained boundary), 0 where dp = 0 (the drained particles around it hold p = 0:
-    kernels.add_increment_one)."""
-    wet = g_w[i, NODE_WATER.mass] > mass_eps and band[i, centre] > 0.0 and g_w[i, NODE_WATER.volume] >= SUPPORT_MIN * cell_volume
+    SUPPORT_MIN, its fill at least fill_min: not the free surface or a drained boundary), 0 where dp = 0 (the
+    drained particles around it hold p = 0: kernels.add_increment_one)."""
+    wet = (g_w[i, NODE_WATER.mass] > mass_eps and band[i, centre] > 0.0
+           and g_w[i, NODE_WATER.volume] >= SUPPORT_MIN * cell_volume)
     g_unknown[i] = 1 if wet and g_fill[i] >= fill_min else 0
 
 

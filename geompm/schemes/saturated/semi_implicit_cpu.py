@@ -18,6 +18,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from geompm.kernels.shape import support
+from geompm.kernels.stencil import APIC, SCHEMES
 from geompm.schemes.saturated import kernels as tp
 from geompm.schemes.saturated import pressure_system as ps
 from geompm.schemes.saturated import projection as pj
@@ -33,6 +34,8 @@ class SemiImplicitCpu(SaturatedCpu):
         super().__init__(cpu, water)
         spec = water.pressure_solver
         self.solver = PressureSolver(spec.tolerance, spec.max_iterations, spec.rebuild_interval)
+        #: APIC's affine matrices carry the flux divergence (affine_flux); MLS's C is the law's velocity gradient
+        self.apic = SCHEMES.index(self.scene.transfer) == APIC
 
     def _grid(self, cap):
         super()._grid(cap)
@@ -68,7 +71,7 @@ class SemiImplicitCpu(SaturatedCpu):
                 P.p_material, self.table, dt, self.p_coef, self.p_store, self.p_div)
         ps.stencil_keys(P.p_x, g.origin, g.h, g.kind, lo, nloc, self.S, self.p_keys)
         groups = ps.colour_groups(self.p_keys, nn, self.S ** sc.dim)
-        band, rhs = self.band[:nn], self.g_dp[:nn]
+        band, rhs = self.band[:nn], self.g_dp[:nn]  # the right-hand side in g_dp, until the solve replaces it
         band[:] = 0.0
         rhs[:] = 0.0
         ps.assemble_band(self.tag, *groups, P.p_x, P.p_vol, self.p_coef, self.p_store, self.p_div, dt, g.origin, g.h,
@@ -115,6 +118,6 @@ class SemiImplicitCpu(SaturatedCpu):
 
     def affine_flux(self) -> None:
         """APIC only: projection.affine_flux_one on every particle."""
-        if self.affine and self.scene.transfer == "apic":
+        if self.apic:
             P = self.particles()
             self.be.each(pj.affine_flux_one, self.n, P.p_C, P.p_Cw, P.p_n, self.p_wmass)
