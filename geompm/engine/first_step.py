@@ -75,10 +75,7 @@ def first_step_estimate(scene) -> tuple[float, int, float]:
 
     st = scene.state
     nodes = window_nodes(st.p_x.min(axis=0), st.p_x.max(axis=0), scene.grid.h)
-    from geompm.kernels.shape import KIND
-
-    shape = next(k for k, v in KIND.items() if v == scene.grid.kind)
-    extra = nodes * type(scene.scheme).node_bytes(scene.dim, shape)
+    extra = nodes * type(scene.scheme).node_bytes(scene.dim, scene.grid.kind)
     return st.nbytes() + grid_bytes(nodes, scene.dim) + extra, nodes, stable_dt(scene, st)
 
 

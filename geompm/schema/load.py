@@ -22,6 +22,7 @@ from pydantic import ValidationError
 from geompm.contract import registry
 from geompm.errors import CaseError, join_path
 from geompm.files.atomic import case_relative, unreadable_file
+from geompm.kernels.shape import KIND
 from geompm.kernels.stencil import LINEAR_APIC, linear_apic
 from geompm.mpm.memory import available_memory, grid_bytes, particle_bytes, window_nodes
 from geompm.schema.case import Case, DampingSpec, MaterialSpec, OutputSpec, PluginSpec
@@ -468,7 +469,7 @@ def _check_memory(case: Case, problems, scheme=None) -> None:
     if lo is None:
         return
     nodes = window_nodes(lo, hi, h)
-    extra = scheme.node_bytes(dim, case.grid.shape_function) if scheme is not None else 0
+    extra = scheme.node_bytes(dim, KIND[case.grid.shape_function]) if scheme is not None else 0
     need = particles * particle_bytes(dim) + grid_bytes(nodes, dim) + nodes * extra
     have = available_memory()
     if have is not None and need > have:

@@ -95,9 +95,10 @@ class Scheme:
         return []
 
     @classmethod
-    def node_bytes(cls, dim: int, shape_function: str) -> int:
-        """Bytes per window node the scheme's own arrays add to the core's grid (the memory check before any
-        work, schema/load.py, and `geompm validate`'s estimate)."""
+    def node_bytes(cls, dim: int, kind: int) -> int:
+        """Bytes per window node the scheme's own arrays add to the core's grid, for shape functions of
+        ``kind`` (kernels/shape.py): the memory check before any work (schema/load.py) and `geompm validate`'s
+        estimate."""
         return 0
 
     # -- the set-up (setup/assemble.py) ----------------------------------------------------------------

@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 
 from geompm.contract.stages import BOUNDARY
+from geompm.kernels.shape import support
 from geompm.schemes.saturated.scheme import Saturated
 
 
@@ -48,12 +49,12 @@ class SaturatedSemiImplicit(Saturated):
         return out
 
     @classmethod
-    def node_bytes(cls, dim: int, shape_function: str) -> int:
+    def node_bytes(cls, dim: int, kind: int) -> int:
         """The pressure system per window node: the band of (2S - 1)^d coefficients (8 bytes each), the CSR
         rows (12 bytes per coefficient, at most the band's) and the smoothed-aggregation hierarchy (taken as the
         matrix again: operator complexity 1.04 measured, its prolongators besides; benchmarks/results/
         2026-12-05-issue53), plus ten nodal scalars; S = 2 / 3 / 4 for linear / quadratic / cubic shape functions."""
-        width = (2 * {"linear": 2, "quadratic": 3, "cubic": 4}[shape_function] - 1) ** dim
+        width = (2 * support(kind) - 1) ** dim
         return 8 * width + 2 * 12 * width + 80
 
     def __init__(self, case=None, names=()):
