@@ -30,6 +30,7 @@ import numpy as np
 
 from geompm.kernels.stencil import AFFINE, FLIP, SCHEMES, stencil_tag
 from geompm.schemes.saturated import kernels as tp
+from geompm.schemes.saturated import mirror
 from geompm.schemes.saturated.solids import WIDTH
 
 
@@ -101,6 +102,7 @@ class SaturatedPasses:
         self.g_vpre = self._zeros((cap, d))
         self.g_fill = self._zeros(cap)
         self.g_pore = self._zeros((cap, 7))
+        self.g_image = self._zeros((cap, d))  # the velocities mirror.node_mirror_one reads
 
     def _particles(self, n):
         if n != self.n:
@@ -113,7 +115,7 @@ class SaturatedPasses:
 
     def _arrays(self):
         grid = (self.g_w, self.g_vp, self.g_p, self.g_rel, self.g_rel0, self.g_vw, self.g_vwold, self.g_vpre,
-                self.g_fill, self.g_pore)
+                self.g_fill, self.g_pore, self.g_image)
         parts = () if self.n < 0 else (self.p_total, self.p_wmass, self.p_drag, self.p_divw, self.p_divs,
                                        self.p_dp, self.p_dps, self.p_fill)
         musl = tuple(a for a in (self.g_old, self.p_vw2, self.p_Cw2) if a is not None)
@@ -216,9 +218,21 @@ class SaturatedPasses:
         self.be.each(tp.node_snapshot_one, nn, view.g_mass, view.g_vel, view.g_vel_old, self.g_w[:nn],
                      self.gravity, dt, self.be.mass_eps, self.g_rel[:nn], self.g_rel0[:nn], self.g_vpre[:nn])
 
+    def mirror(self, view) -> None:
+        """The normal velocity behind the impermeable walls mirrored from the material's (mirror.py), after
+        the stages and before the split."""
+        if self.walls.shape[0] == 0:
+            return
+        g, nn = self.scene.grid, view.g_vel.shape[0]
+        lo, nloc = self.window_index(view)
+        self.be.each(mirror.node_copy_one, nn, view.g_vel, self.g_image[:nn])
+        self.be.each(mirror.node_mirror_one, nn, self.g_image[:nn], view.g_mass, self.walls, self._origin, g.h, lo,
+                     nloc, self.be.mass_eps, view.g_vel)
+
     def split(self, view, dt: float) -> None:
         g, nn = self.scene.grid, view.g_vel.shape[0]
         lo, nloc = self.window_index(view)
+        self.mirror(view)
         self.be.each(tp.node_split_one, nn, view.g_mass, view.g_vel, self.g_vpre[:nn], self.g_w[:nn],
                      self.g_rel[:nn], self.g_rel0[:nn], self.g_solid, self.walls, self._origin, g.h, lo, nloc, self.gravity, dt,
                      self.be.mass_eps, self.g_vw[:nn], view.g_vel_old, self.g_vwold[:nn])
@@ -263,6 +277,7 @@ class SaturatedPasses:
         be.each(tp.node_remap_one, nn, view.g_mass, view.g_mom, self.g_w[:nn], be.mass_eps, view.g_vel,
                 self.g_rel[:nn], self.g_rel0[:nn], self.g_vpre[:nn])
         stages()
+        self.mirror(view)
         if self.g_old is None or self.g_old.shape[0] < self.cap:
             self.g_old = self._zeros((self.cap, self.scene.dim))
         self.be.each(tp.node_split_one, nn, view.g_mass, view.g_vel, self.g_vpre[:nn], self.g_w[:nn],
