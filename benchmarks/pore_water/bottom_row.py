@@ -1,41 +1,22 @@
 """The bottom row of a saturated flow on a bed aligned with the grid (docs/pore-water.md, Walls and the bottom
-row; schemes/saturated/mirror.py): the 2D twin of the main job (benchmarks/pore_water/flume2d.py: the
-0.6 x 0.25 m debris block, Drucker-Prager phi = 30, psi = 0, n = 0.4, k = 1e-5 m/s, K_w = 2e7 Pa, APIC,
-quadratic B-splines) on a 35 degree slope written as a horizontal bed (wall y-, friction 0.4) under gravity
-turned by 35 degrees, so the wall lies on grid nodes and no oblique cut is involved.  Every 0.1 s: the
+row; schemes/saturated/mirror.py): the 2D twin of the main job on a 35 degree slope written as a horizontal
+bed under turned gravity (geompm/testing/verification/bottom_row.py), h = 0.05 m unless --h is given.  Every 0.1 s: the
 centroid, the mean downslope speed, the pore pressure (largest, least, mean) and the basal friction force
 (the x-momentum the boundary stages take per second, N/m); at 0.4 s the particles' mean pore pressure in
 0.1 m x 0.05 m bins (rows from the bed up).
 
-    python benchmarks/pore_water/bottom_row.py [--no-mirror] [--end=T] [KEY=VALUE ...]
+    python benchmarks/pore_water/bottom_row.py [--no-mirror] [--end=T] [--h=H] [KEY=VALUE ...]
 
 --no-mirror: the walls' rule alone behind the bed (no mirrored velocity: the version before mirror.py).
 """
 
-import math
 import sys
 import time
 
 import numpy as np
 
-from flume2d import ROOT, flume2d
-from geompm.api import scene_from_dict
-from geompm.engine.scheduler import Simulation
-from geompm.schema.load import apply_overrides
 from geompm.schemes.saturated.passes import SaturatedPasses
-
-SLOPE = math.radians(35.0)
-
-
-def case(sets):
-    c = flume2d(False, [])
-    c["grid"]["extent"] = [4.0, 0.8]
-    c["gravity"] = [9.81 * math.sin(SLOPE), -9.81 * math.cos(SLOPE)]
-    c["boundaries"] = [{"type": "wall", "side": "y-", "condition": "friction", "friction": 0.4},
-                       {"type": "wall", "side": "x-", "condition": "slip"},
-                       {"type": "wall", "side": "x+", "condition": "slip"}]
-    c["bodies"][0]["geometry"]["vertices"] = [[0.2, 0.0], [0.8, 0.0], [0.8, 0.25], [0.2, 0.25]]
-    return apply_overrides(c, list(sets))
+from geompm.testing.verification import bottom_row as br
 
 
 def table(st):
@@ -55,16 +36,9 @@ def main(argv):
     if "--no-mirror" in argv:
         SaturatedPasses.mirror = lambda self, view: None
     end = float(next((a.split("=", 1)[1] for a in argv if a.startswith("--end=")), 0.6))
-    sim = Simulation(scene_from_dict(case([a for a in argv if not a.startswith("--")]), base_dir=ROOT / "cases"))
-    friction = [0.0]
-    stages_run = type(sim).grid_stages_run
-
-    def measured(self, view, dt, remap=False, phases=None):
-        before = float((view.g_mass * view.g_vel[:, 0]).sum())
-        stages_run(self, view, dt, remap=remap, phases=phases)
-        friction[0] += float((view.g_mass * view.g_vel[:, 0]).sum()) - before
-
-    type(sim).grid_stages_run = measured
+    h = float(next((a.split("=", 1)[1] for a in argv if a.startswith("--h=")), 0.05))
+    sim = br.simulation(h, [a for a in argv if not a.startswith("--")])
+    friction = br.friction_meter(sim)
     t0, due, shown = time.perf_counter(), 0.1, False
     while sim.time < end - 1e-9:
         sim.step(sim.stable_dt())
@@ -73,10 +47,12 @@ def main(argv):
             p = st.p_pore
             print(f"t {sim.time:.2f} steps {sim.step_count} centroid {st.p_x[:, 0].mean():.3f} m "
                   f"speed {st.p_v[:, 0].mean():.3f} m/s  p max {p.max():6.0f} min {p.min():7.0f} mean {p.mean():6.0f} Pa"
-                  f"  basal friction {-friction[0] / 0.1:6.1f} N/m", flush=True)
+                  f"  basal friction {friction[0] / 0.1:6.1f} N/m", flush=True)
             friction[0] = 0.0
             if not shown and sim.time >= 0.4 - 1e-9:
                 print(table(st), flush=True)
+                bottom, above = br.rows(st, h)
+                print(f"x 0.5-1.1 m: bottom row (y < h) mean p {bottom:.0f} Pa, the row above {above:.0f} Pa", flush=True)
                 shown = True
             due += 0.1
     print(f"wall {time.perf_counter() - t0:.1f} s")
