@@ -5,9 +5,10 @@ centroid, the mean downslope speed, the pore pressure (largest, least, mean) and
 (the x-momentum the boundary stages take per second, N/m); at 0.4 s the particles' mean pore pressure in
 0.1 m x 0.05 m bins (rows from the bed up).
 
-    python benchmarks/pore_water/bottom_row.py [--no-mirror] [--end=T] [--h=H] [KEY=VALUE ...]
+    python benchmarks/pore_water/bottom_row.py [--no-mirror] [--end=T] [--h=H] [--bed=wall|box] [KEY=VALUE ...]
 
---no-mirror: the walls' rule alone behind the bed (no mirrored velocity: the version before mirror.py).
+--no-mirror: the walls' and solids' rule alone behind the bed (no mirrored velocity: the version before
+mirror.py); --bed=box: the bed an analytic box obstacle instead of the grid's face.
 """
 
 import sys
@@ -37,7 +38,8 @@ def main(argv):
         SaturatedPasses.mirror = lambda self, view: None
     end = float(next((a.split("=", 1)[1] for a in argv if a.startswith("--end=")), 0.6))
     h = float(next((a.split("=", 1)[1] for a in argv if a.startswith("--h=")), 0.05))
-    sim = br.simulation(h, [a for a in argv if not a.startswith("--")])
+    bed = next((a.split("=", 1)[1] for a in argv if a.startswith("--bed=")), "wall")
+    sim = br.simulation(h, [a for a in argv if not a.startswith("--")], bed)
     friction = br.friction_meter(sim)
     t0, due, shown = time.perf_counter(), 0.1, False
     while sim.time < end - 1e-9:

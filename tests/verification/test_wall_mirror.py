@@ -11,7 +11,8 @@ stays well under the total-stress bound mu N = 964 N/m.  Measured at 0.4 s, expl
 x = 0.5-1.1 m (benchmarks/results/2026-12-05-issue53/bottom_row/explicit*_cfl0.4.txt), bottom row / row above
 and friction at h = 0.1 / 0.05 / 0.025 m: with the mirror 450 / 0 (drained), 976 / 560, 1 467 / 756 Pa and
 705, 486, 413 N/m; without it 278 / 0, -302 / 651, 285 / 1 155 Pa and 953, 922, 847 N/m (this test's
-assertions fail there).  The coarse pair with a row above in the water runs here."""
+assertions fail there).  The coarse pair with a row above in the water runs here, and the bed as an
+obstacle at h = 0.05 m."""
 
 from __future__ import annotations
 
@@ -22,6 +23,7 @@ import pytest
 
 from geompm.schemes.saturated.kernels import WALL
 from geompm.schemes.saturated.mirror import node_mirror_one
+from geompm.schemes.saturated.solids import WIDTH
 from geompm.testing.verification import bottom_row as br
 
 H = 0.1
@@ -64,7 +66,7 @@ def test_the_velocity_towards_the_wall_is_mirrored_behind_it(normal, point):
     lo, nloc, origin, mass, vel, wall, s, n = _window(normal, point, a)
     out = vel.copy()
     for i in range(len(mass)):
-        node_mirror_one(i, vel, mass, wall, origin, H, lo, nloc, 1e-12, out)
+        node_mirror_one(i, vel, mass, wall, np.zeros((len(mass), WIDTH)), origin, H, lo, nloc, 1e-12, out)
     t = np.array([-n[1], n[0]])
     assert np.array_equal(out[s >= -1e-9 * H], vel[s >= -1e-9 * H])
     behind = s < -1e-9 * H
@@ -82,18 +84,21 @@ def test_a_material_moving_away_from_the_wall_keeps_the_walls_rule():
     lo, nloc, origin, mass, vel, wall, s, n = _window((0.0, 1.0), (0.0, 0.0), -2.0)
     out = vel.copy()
     for i in range(len(mass)):
-        node_mirror_one(i, vel, mass, wall, origin, H, lo, nloc, 1e-12, out)
+        node_mirror_one(i, vel, mass, wall, np.zeros((len(mass), WIDTH)), origin, H, lo, nloc, 1e-12, out)
     assert np.array_equal(out, vel)
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("h", [0.05, 0.025])
-def test_the_bottom_row_of_a_flowing_saturated_block_keeps_its_pressure(h):
+@pytest.mark.parametrize("h, bed", [(0.05, "wall"), (0.025, "wall"), (0.05, "box")],
+                         ids=["wall-0.05", "wall-0.025", "box-obstacle-0.05"])
+def test_the_bottom_row_of_a_flowing_saturated_block_keeps_its_pressure(h, bed):
     """The main job's 2D twin on an aligned bed, explicit step, to 0.4 s: the bottom row's mean pore pressure
     over x = 0.5-1.1 m exceeds the row above's (hydrostatic ordering; without the mirror it is a quarter to a
     half of it), and the bed's friction over 0.3-0.4 s stays below 0.7 mu N (0.88-0.96 mu N without the
-    mirror, 0.43-0.50 mu N with it)."""
-    sim = br.simulation(h)
+    mirror, 0.43-0.50 mu N with it).  On an analytic box obstacle as the bed (the solids' mirror, through
+    the obstacle's own surface) at h = 0.05 m: 992 / 567 Pa and 468 N/m, against -302 / 657 Pa and 919 N/m
+    without the mirror."""
+    sim = br.simulation(h, bed=bed)
     friction = br.friction_meter(sim)
     while sim.time < 0.3 - 1e-9:
         sim.step(sim.stable_dt())

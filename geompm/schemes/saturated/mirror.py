@@ -16,8 +16,10 @@ signed distance -d takes v_n = -v_n(y) at its mirror point y = x + 2 d n, when t
 towards the wall (v_n(y) < 0); a material that moves away (lift-off, expansion) keeps the wall's rule.
 v(y) is the mass-weighted multilinear interpolation of the nodes around y after the stages (a node itself
 for a wall on a grid face).  The tangential part is the wall's (slip, friction).  A drained wall keeps its
-rule (the water crosses it); the rigid obstacles and the terrain keep theirs (their nodes' signed distances
-are not mirrored here: docs/pore-water.md, Limits).
+rule (the water crosses it).  A fixed impermeable rigid solid (an obstacle, analytic or STL, or the terrain)
+is mirrored the same way through its own surface: a node at depth d inside it (solids.py, the row's depth
+and the normal out of the solid) takes v_n = -v_n(x + 2 d n); a moving solid and a drained one keep their
+rule.
 """
 
 from numba import njit
@@ -83,9 +85,29 @@ def velocity_at(y0, y1, y2, g_snap, g_mass, origin, h, lo, nloc, d, mass_eps, a0
 
 
 @njit(cache=True, inline="always")
-def node_mirror_one(i, g_snap, g_mass, walls, origin, h, lo, nloc, mass_eps, g_vel):
-    """Node i behind an impermeable wall k (signed distance below -BEHIND h) whose mirror point's material
-    moves towards the wall: v_n <- -v_n(mirror) (module docstring)."""
+def mirror_normal(i, x0, x1, x2, dist, n0, n1, n2, g_snap, g_mass, origin, h, lo, nloc, mass_eps, g_vel):
+    """Node i at signed distance dist < 0 from a surface with unit normal n (into the material): its normal
+    velocity set to -v_n at its mirror point where the material there moves towards the surface."""
+    d = g_vel.shape[1]
+    vn_image, weight = velocity_at(x0 - 2.0 * dist * n0, x1 - 2.0 * dist * n1, x2 - 2.0 * dist * n2, g_snap,
+                                   g_mass, origin, h, lo, nloc, d, mass_eps, n0, n1, n2)
+    if weight <= 0.0 or vn_image >= 0.0:
+        return
+    vn = g_vel[i, 0] * n0 + g_vel[i, 1] * n1
+    if d == 3:
+        vn += g_vel[i, 2] * n2
+    dv = -vn_image - vn
+    g_vel[i, 0] += dv * n0
+    g_vel[i, 1] += dv * n1
+    if d == 3:
+        g_vel[i, 2] += dv * n2
+
+
+@njit(cache=True, inline="always")
+def node_mirror_one(i, g_snap, g_mass, walls, g_solid, origin, h, lo, nloc, mass_eps, g_vel):
+    """Node i behind an impermeable wall k (signed distance below -BEHIND h) or inside a fixed impermeable
+    solid (g_solid[i, 5] its depth above BEHIND h, g_solid[i, 2:5] the normal out of it) whose mirror point's
+    material moves towards the surface: v_n <- -v_n(mirror) (module docstring)."""
     if g_mass[i] <= mass_eps:
         return
     d = g_vel.shape[1]
@@ -93,6 +115,9 @@ def node_mirror_one(i, g_snap, g_mass, walls, origin, h, lo, nloc, mass_eps, g_v
     x0 = origin[0] + ix * h
     x1 = origin[1] + iy * h
     x2 = origin[2] + iz * h if d == 3 else 0.0
+    if g_solid[i, 5] > BEHIND * h:
+        mirror_normal(i, x0, x1, x2, -g_solid[i, 5], g_solid[i, 2], g_solid[i, 3], g_solid[i, 4], g_snap, g_mass,
+                      origin, h, lo, nloc, mass_eps, g_vel)
     for k in range(walls.shape[0]):
         if walls[k, WALL.drained] > 0.0:
             continue
@@ -100,17 +125,5 @@ def node_mirror_one(i, g_snap, g_mass, walls, origin, h, lo, nloc, mass_eps, g_v
         dist = (x0 - walls[k, WALL.px]) * n0 + (x1 - walls[k, WALL.py]) * n1
         if d == 3:
             dist += (x2 - walls[k, WALL.pz]) * n2
-        if dist >= -BEHIND * h:
-            continue
-        vn_image, weight = velocity_at(x0 - 2.0 * dist * n0, x1 - 2.0 * dist * n1, x2 - 2.0 * dist * n2, g_snap,
-                                       g_mass, origin, h, lo, nloc, d, mass_eps, n0, n1, n2)
-        if weight <= 0.0 or vn_image >= 0.0:
-            continue
-        vn = g_vel[i, 0] * n0 + g_vel[i, 1] * n1
-        if d == 3:
-            vn += g_vel[i, 2] * n2
-        dv = -vn_image - vn
-        g_vel[i, 0] += dv * n0
-        g_vel[i, 1] += dv * n1
-        if d == 3:
-            g_vel[i, 2] += dv * n2
+        if dist < -BEHIND * h:
+            mirror_normal(i, x0, x1, x2, dist, n0, n1, n2, g_snap, g_mass, origin, h, lo, nloc, mass_eps, g_vel)

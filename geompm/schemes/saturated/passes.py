@@ -174,7 +174,8 @@ class SaturatedPasses:
 
     def _solids(self, view, time):
         """The rigid solids' rows of the window's nodes (nn, solids.WIDTH): fill, drained contact mark,
-        impermeable surface's normal (solids.SolidFill; zeros without a solid), where the kernels read it."""
+        impermeable surface's normal, depth inside a fixed solid (solids.SolidFill; zeros without a solid),
+        where the kernels read it."""
         nn = view.g_mass.shape[0]
         solids = self.pw.solids
         if not solids:
@@ -219,15 +220,15 @@ class SaturatedPasses:
                      self.gravity, dt, self.be.mass_eps, self.g_rel[:nn], self.g_rel0[:nn], self.g_vpre[:nn])
 
     def mirror(self, view) -> None:
-        """The normal velocity behind the impermeable walls mirrored from the material's (mirror.py), after
-        the stages and before the split."""
-        if self.walls.shape[0] == 0:
+        """The normal velocity behind the impermeable walls and inside the fixed impermeable solids mirrored
+        from the material's (mirror.py), after the stages and before the split."""
+        if self.walls.shape[0] == 0 and self._solid is None:
             return
         g, nn = self.scene.grid, view.g_vel.shape[0]
         lo, nloc = self.window_index(view)
         self.be.each(mirror.node_copy_one, nn, view.g_vel, self.g_image[:nn])
-        self.be.each(mirror.node_mirror_one, nn, self.g_image[:nn], view.g_mass, self.walls, self._origin, g.h, lo,
-                     nloc, self.be.mass_eps, view.g_vel)
+        self.be.each(mirror.node_mirror_one, nn, self.g_image[:nn], view.g_mass, self.walls, self.g_solid,
+                     self._origin, g.h, lo, nloc, self.be.mass_eps, view.g_vel)
 
     def split(self, view, dt: float) -> None:
         g, nn = self.scene.grid, view.g_vel.shape[0]

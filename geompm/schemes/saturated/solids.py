@@ -31,8 +31,9 @@ from geompm.kernels.shape import axis_stencil, support
 
 #: nodes evaluated at once when a solid's band is found (a chunk of the stage's node box)
 CHUNK_NODES = 1 << 20
-#: a window row: the solids' fill, the drained contact mark, the impermeable surface's normal (3)
-WIDTH = 5
+#: a window row: the solids' fill, the drained contact mark, the impermeable surface's normal (3), the depth
+#: [m] of a node inside a fixed impermeable solid (0 elsewhere, and for a moving solid: mirror.py)
+WIDTH = 6
 #: a node this fraction of a spacing outside a solid's surface is on it (a mesh's signed distance carries
 #: round-off of its own)
 SURFACE_TOLERANCE = 1e-3
@@ -91,7 +92,7 @@ class SolidFill:
         for stage in scene.stages:
             if stage.water_boundary() is not None or stage.solid_depth(self.origin[None, :]) is None:
                 continue
-            band = self._band(stage, u, cdf, stage.drained_layer())
+            band = self._band(stage, u, cdf, stage.drained_layer(), stage.surface_shift(0.0) is None)
             if band is not None:
                 self.bands.append((stage,) + band)
         self._key = None
@@ -100,9 +101,10 @@ class SolidFill:
     def __bool__(self) -> bool:
         return bool(self.bands)
 
-    def _band(self, stage, u, cdf, drained_layer):
+    def _band(self, stage, u, cdf, drained_layer, fixed):
         """(node indices, rows) of the nodes within the reach of the stage's surface (a node
-        deeper than the reach plus a spacing is in no outside particle's stencil)."""
+        deeper than the reach plus a spacing is in no outside particle's stencil); ``fixed``: the solid does
+        not move (its nodes' depth is kept for the mirrored velocity)."""
         d, h = self.dim, self.h
         box = stage.node_box(0.0)
         first = np.zeros(d, np.int64)
@@ -135,6 +137,8 @@ class SolidFill:
                 row[:, 0] = np.interp(depth / h, u, cdf)
                 wall = depth >= -SURFACE_TOLERANCE * h  # on or inside the surface: no flow across it
                 row[wall, 2:2 + d] = normal[wall]
+                if fixed:
+                    row[:, 5] = np.maximum(depth, 0.0)
             keep_idx.append(idx[keep])
             keep_rows.append(row[keep])
         if not keep_idx or not sum(len(k) for k in keep_idx):
@@ -161,9 +165,10 @@ class SolidFill:
             flat = np.ravel_multi_index(tuple(local[inside].T), tuple(nloc))
             np.add.at(rows[:, 0], flat, band[inside, 0])
             np.maximum.at(rows[:, 1], flat, band[inside, 1])
-            rows[flat, 2:] += band[inside, 2:]
+            rows[flat, 2:5] += band[inside, 2:5]
+            np.maximum.at(rows[:, 5], flat, band[inside, 5])
         np.minimum(rows[:, 0], 1.0, out=rows[:, 0])
-        size = np.linalg.norm(rows[:, 2:], axis=1)  # two solids' normals at one node: their mean direction
-        rows[:, 2:] /= np.where(size > 0.0, size, 1.0)[:, None]
+        size = np.linalg.norm(rows[:, 2:5], axis=1)  # two solids' normals at one node: their mean direction
+        rows[:, 2:5] /= np.where(size > 0.0, size, 1.0)[:, None]
         self._key, self._rows = key, rows
         return rows

@@ -24,15 +24,22 @@ SLOPE = math.radians(35.0)
 MU, X0, X1, HEIGHT = 0.4, 0.2, 0.8, 0.25
 
 
-def case(h: float = 0.05, sets=()) -> dict:
+def case(h: float = 0.05, sets=(), bed: str = "wall") -> dict:
+    """The case; ``bed``: "wall" (the grid's face y-) or "box" (an analytic box obstacle whose top is the same
+    plane, y = 0, the grid reaching 0.2 m below it: a rigid solid's fill and mirror instead of a wall's)."""
     c = json.loads(shipped_case("saturated_debris_obstacle.json").read_text())
     c["dimension"] = 2
-    c["grid"] = {"origin": [0, 0], "extent": [4.0, 0.8], "cell_size": h, "shape_function": "quadratic"}
+    below = 0.2 if bed == "box" else 0.0
+    c["grid"] = {"origin": [0, -below], "extent": [4.0, 0.8 + below], "cell_size": h, "shape_function": "quadratic"}
     c["gravity"] = [9.81 * math.sin(SLOPE), -9.81 * math.cos(SLOPE)]
-    c["boundaries"] = [{"type": "wall", "side": "y-", "condition": "friction", "friction": MU},
-                       {"type": "wall", "side": "x-", "condition": "slip"},
+    c["boundaries"] = [{"type": "wall", "side": "x-", "condition": "slip"},
                        {"type": "wall", "side": "x+", "condition": "slip"}]
-    c.pop("obstacles")
+    if bed == "box":
+        c["obstacles"] = [{"type": "box", "name": "bed", "min": [-0.1, -0.3], "max": [4.1, 0.0],
+                           "condition": "friction", "friction": MU}]
+    else:
+        c["boundaries"].insert(0, {"type": "wall", "side": "y-", "condition": "friction", "friction": MU})
+        c.pop("obstacles")
     c["outputs"] = []
     c["time"]["cfl"] = 0.4
     body = c["bodies"][0]
@@ -40,8 +47,8 @@ def case(h: float = 0.05, sets=()) -> dict:
     return apply_overrides(c, list(sets))
 
 
-def simulation(h: float = 0.05, sets=()) -> Simulation:
-    return Simulation(scene_from_dict(case(h, sets), base_dir=CASES))
+def simulation(h: float = 0.05, sets=(), bed: str = "wall") -> Simulation:
+    return Simulation(scene_from_dict(case(h, sets, bed), base_dir=CASES))
 
 
 def rows(st, h: float, x_lo: float = 0.5, x_hi: float = 1.1) -> tuple[float, float]:
