@@ -7,8 +7,8 @@ material above moving towards it, v_n(h) < 0) leaves those nodes at v_n = 0: the
 then see dv_n/dn about 3/4 of the material's (quadratic B-splines, a particle a quarter cell above the wall),
 a spurious dilation of the bottom row that the water resists with suction.  Measured on a saturated
 Drucker-Prager block sliding down a bed aligned with the grid (h = 0.05 m, 0.4 s): the bottom row's pore
-pressure 171-468 Pa against 700-955 Pa in the row above it (explicit step), -807 to 301 Pa under the semi-implicit
-step, and the basal friction it sets (benchmarks/results/2026-12-05-issue53/bottom_row/).
+pressure 171-468 Pa against 700-955 Pa in the row above it (explicit step), -807 to 301 Pa under the
+semi-implicit step, and the basal friction it sets (benchmarks/results/2026-12-05-issue53/bottom_row/).
 
 The continuum's velocity is antisymmetric in its normal component about a wall the material presses on
 (the image of the flow in the wall: the wall's plane has v_n = 0 and dv_n/dn continuous), so a node at
