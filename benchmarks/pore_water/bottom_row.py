@@ -48,13 +48,15 @@ def main(argv):
             st = sim.state
             p = st.p_pore
             print(f"t {sim.time:.2f} steps {sim.step_count} centroid {st.p_x[:, 0].mean():.3f} m "
-                  f"speed {st.p_v[:, 0].mean():.3f} m/s  p max {p.max():6.0f} min {p.min():7.0f} mean {p.mean():6.0f} Pa"
+                  f"speed {st.p_v[:, 0].mean():.3f} m/s  p max {p.max():6.0f} min {p.min():7.0f} "
+                  f"mean {p.mean():6.0f} Pa"
                   f"  basal friction {friction[0] / 0.1:6.1f} N/m", flush=True)
             friction[0] = 0.0
             if not shown and sim.time >= 0.4 - 1e-9:
                 print(table(st), flush=True)
                 bottom, above = br.rows(st, h)
-                print(f"x 0.5-1.1 m: bottom row (y < h) mean p {bottom:.0f} Pa, the row above {above:.0f} Pa", flush=True)
+                print(f"x 0.5-1.1 m: bottom row (y < h) mean p {bottom:.0f} Pa, the row above {above:.0f} Pa",
+                      flush=True)
                 shown = True
             due += 0.1
     print(f"wall {time.perf_counter() - t0:.1f} s")
