@@ -49,6 +49,12 @@ class SaturatedSemiImplicit(Saturated):
         return out
 
     @classmethod
+    def warnings(cls, case):
+        from geompm.schemes.saturated.checks import semi_implicit_warnings
+
+        return semi_implicit_warnings(case)
+
+    @classmethod
     def node_bytes(cls, dim: int, kind: int) -> int:
         """The pressure system per window node: the band of (2S - 1)^d coefficients (8 bytes each), the CSR
         rows (12 bytes per coefficient, at most the band's) and the smoothed-aggregation hierarchy (taken as the
