@@ -61,9 +61,13 @@ def rows(st, h: float, x_lo: float = 0.5, x_hi: float = 1.1) -> tuple[float, flo
     return float(p[bottom].mean()), float(p[above].mean())
 
 
-def weight_normal() -> float:
-    """The block's weight normal to the bed per metre of width [N/m]: the total-stress friction bound / MU."""
-    rho_sat = 0.4 * 1000.0 + 0.6 * 2666.7  # the case's n, rho_w and rho_s
+def weight_normal(c: dict | None = None) -> float:
+    """The block's weight normal to the bed per metre of width [N/m], from the case's grain density, porosity
+    and water density: the total-stress friction bound / MU."""
+    debris = (c or case())["materials"]["debris"]
+    pw = debris["pore_water"]
+    n, rho_w = pw["porosity"], pw.get("fluid", {}).get("density", 1000.0)
+    rho_sat = (1.0 - n) * debris["density"] + n * rho_w
     return rho_sat * (X1 - X0) * HEIGHT * 9.81 * math.cos(SLOPE)
 
 
