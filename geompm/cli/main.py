@@ -68,11 +68,7 @@ def cmd_validate(args) -> int:
         points = ", ".join(f"{f:g} at {t:g} s" for t, f in zip(times, factors))
         print(f"strength trigger: the strength of {names} divided by F = {points} (linear between, held outside)")
     if scene.water_table is not None:
-        times, heights, normal, gradient, acts = scene.water_table
-        names = ", ".join(n for n, a in zip(scene.material_names, acts) if a)
-        points = ", ".join(f"{z:g} m at {t:g} s" for t, z in zip(times, heights))
-        print(f"water table: {points} along n = ({', '.join(f'{v:.3g}' for v in normal)}) (linear between, held "
-              f"outside); pore pressure {gradient:.4g} Pa/m below it acts on {names}")
+        print(scene.water_table.describe(scene.material_names))
     viscous_warning(loaded, scene, print)
     stage_warnings(scene, print, loaded)
     return 0

@@ -59,6 +59,9 @@ class Simulation(StepContext):
     def load(self) -> None:
         self.water.load(self.backend, self.state, self.time)
 
+    def external_force(self, view, dt: float) -> None:
+        self.water.force(self.backend, self.state, view, dt)
+
     def strength_changes(self) -> None:
         self.strength.apply(self.scene, self.backend, self.time)
 

@@ -20,7 +20,11 @@ doubles its volume in a shear band).
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit, prange
+
+from geompm.files.dem import bilinear
+from geompm.kernels.shape import axis_stencil
 
 
 @njit(parallel=True, cache=True)
@@ -33,6 +37,77 @@ def phreatic_pressure(p_x, p_material, acts, normal, height, gradient, out):
         for a in range(d):
             depth -= p_x[p, a] * normal[a]
         out[p] = gradient * depth * acts[p_material[p]] if depth > 0.0 else 0.0
+
+
+@njit(parallel=True, cache=True)
+def polyline_pressure(p_x, p_material, acts, xs, zs, rise, gradient, out):
+    """out[p] = gradient * max(z_s(x) + rise - y, 0) in 2D: hydrostatic along the vertical below the phreatic
+    line through (xs, zs) (xs increasing, held level beyond its ends), y up; gradient = rho_w |g| [Pa/m]."""
+    for p in prange(p_x.shape[0]):
+        depth = np.interp(p_x[p, 0], xs, zs) + rise - p_x[p, 1]
+        out[p] = gradient * depth * acts[p_material[p]] if depth > 0.0 else 0.0
+
+
+@njit(parallel=True, cache=True)
+def lattice_pressure(p_x, p_material, acts, z, x0, y0, dx, dy, rise, gradient, out):
+    """out[p] = gradient * max(z_s(x, y) + rise - z, 0) in 3D below a phreatic surface given on a lattice
+    (files/dem.bilinear: z[i, j] at x0 + i dx, y0 + j dy, the edge values continued beyond), z up."""
+    for p in prange(p_x.shape[0]):
+        depth = bilinear(z, x0, y0, dx, dy, p_x[p, 0], p_x[p, 1]) + rise - p_x[p, 2]
+        out[p] = gradient * depth * acts[p_material[p]] if depth > 0.0 else 0.0
+
+
+@njit(parallel=True, cache=True)
+def pond_pressure(p_x, p_material, acts, up, level, gradient, out_pond, p_head):
+    """out_pond[p] = gradient * max(level - x_up, 0) (a pond's hydrostatic pressure, gradient = rho_w |g|,
+    axis ``up`` against gravity) on the soils with acts = 1, and p_head[p] raised to it where the pond's
+    head is the higher (under a pond the water in the soil stands at least at the pond's level)."""
+    for p in prange(p_x.shape[0]):
+        depth = level - p_x[p, up]
+        q = gradient * depth * acts[p_material[p]] if depth > 0.0 else 0.0
+        out_pond[p] = q
+        if q > p_head[p]:
+            p_head[p] = q
+
+
+@njit(cache=True)
+def scatter_buoyancy(p_x, p_pond, p_vol0, weight, up, origin, inv_h, kind, lo, nloc, scale, g_force):
+    """g_force[k, up] += scale * w_kp rho_w |g| V0_p over the submerged particles (p_pond > 0): the pond's
+    buoyancy, the force -V0 grad p_pond that stands for the pond's pressure on the soil's submerged faces
+    (mpm/water_table.py), an external nodal force as gravity is (Cundall's local damping sees it); ``scale``
+    1 into the split force, dt where P2G folds the force into the momentum.  Serial (no races): its cost is
+    the submerged particles' only."""
+    d = p_x.shape[1]
+    for p in range(p_x.shape[0]):
+        if p_pond[p] <= 0.0:
+            continue
+        f = scale * weight * p_vol0[p]
+        b0, w0, _ = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
+        b1, w1, _ = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
+        b2, w2 = 0, (1.0, 0.0, 0.0, 0.0)
+        s2 = 1
+        if d == 3:
+            b2, w2, _ = axis_stencil((p_x[p, 2] - origin[2]) * inv_h, kind, inv_h)
+            s2 = 4
+        for i in range(4):
+            i0 = b0 + i - lo[0]
+            if w0[i] == 0.0 or i0 < 0 or i0 >= nloc[0]:
+                continue
+            for j in range(4):
+                j0 = b1 + j - lo[1]
+                if w1[j] == 0.0 or j0 < 0 or j0 >= nloc[1]:
+                    continue
+                for l in range(s2):
+                    w = w0[i] * w1[j] * w2[l]
+                    if w == 0.0:
+                        continue
+                    k = i0 * nloc[1] + j0
+                    if d == 3:
+                        l0 = b2 + l - lo[2]
+                        if l0 < 0 or l0 >= nloc[2]:
+                            continue
+                        k = k * nloc[2] + l0
+                    g_force[k, up] += w * f
 
 
 @njit(parallel=True, cache=True)

@@ -367,26 +367,79 @@ class StrengthReductionSpec(Strict):
         return self
 
 
-class WaterTableSpec(Strict):
-    """A phreatic surface that sets the pore pressure of drained soil, p = rho_w (-g . n) (z_wt(t) - x . n)
-    below it (docs/slope-stability.md, "Water table")."""
+class PhreaticSurfaceSpec(Strict):
+    """A phreatic surface from data, hydrostatic along the vertical below it (docs/slope-stability.md, "A
+    phreatic surface from data")."""
+
+    points: list[list[float]] | None = Field(
+        None, min_length=2, max_length=100000, description="2D: the phreatic line's points [x, z] [m] along the "
+        "section, x increasing (level beyond the ends); 3D: points [x, y, z] [m] of the surface, triangulated "
+        "(a TIN; the nearest point's height beyond their hull)")
+    raster: str | None = Field(None, description="3D: a GeoTIFF or ESRI ASCII grid of the surface's height [m] "
+                                                 "(path relative to the case file), bilinear between pixel centres")
+
+    @model_validator(mode="after")
+    def _one_source(self):
+        if (self.points is None) == (self.raster is None):
+            raise ValueError("give exactly one of 'points' and 'raster'")
+        if self.points is not None:
+            sizes = {len(p) for p in self.points}
+            if len(sizes) != 1 or sizes.pop() not in (2, 3):
+                raise ValueError("every point needs the same number of coordinates: [x, z] in 2D, [x, y, z] in 3D")
+            if any(not all(abs(v) < 1e12 for v in p) for p in self.points):
+                raise ValueError("every coordinate must be finite")
+        return self
+
+
+class PondSpec(Strict):
+    """Free water outside the soil at level z_p(t) [m] along the vertical (a reservoir, a river, a pond)."""
 
     times: list[float] = Field(min_length=1, max_length=1000,
                                description="Times [s] of the schedule's points, non-decreasing")
-    heights: list[float] = Field(min_length=1, max_length=1000,
-                                 description="Height z_wt of the water table along 'normal' [m] at each time; "
-                                             "between two times linear")
+    levels: list[float] = Field(min_length=1, max_length=1000,
+                                description="The free water's level z_p [m] (the vertical coordinate: y in 2D, z in "
+                                            "3D) at each time; between two times linear (a drawdown)")
+
+    @model_validator(mode="after")
+    def _schedule(self):
+        check_schedule(self.times, self.levels, "levels", "level")
+        return self
+
+
+class WaterTableSpec(Strict):
+    """A phreatic surface that sets the pore pressure of drained soil: a plane, p = rho_w (-g . n) (z_wt(t) -
+    x . n) below it, or a surface from data, and free water ponded outside the soil (docs/slope-stability.md,
+    "Water table")."""
+
+    times: list[float] = Field([0.0], min_length=1, max_length=1000,
+                               description="Times [s] of the schedule's points, non-decreasing")
+    heights: list[float] | None = Field(
+        None, min_length=1, max_length=1000, description="A plane: its height z_wt along 'normal' [m] at each "
+        "time. With 'surface': the surface's rise [m] at each time (default 0). Between two times linear")
     normal: list[float] | None = Field(
         None, min_length=2, max_length=3, description="Unit normal of the (planar) water table, out of the "
         "ground; its pore pressure is that of seepage parallel to the table. Default: against gravity "
         "(a horizontal table, hydrostatic pressure)")
+    surface: PhreaticSurfaceSpec | None = Field(
+        None, description="A phreatic surface from data (a line in 2D, points or a raster in 3D) in place of the "
+                          "plane: hydrostatic along the vertical below it")
+    pond: PondSpec | None = Field(
+        None, description="Free water outside the soil: its pressure on every face below its level and in the "
+                          "soil's pores below it (the water in the soil stands at least at the pond's level)")
     fluid_density: float = Field(1000.0, gt=0.0, description="rho_w [kg/m3] of the pore water")
     materials: list[str] | None = Field(None, description="The soils under the table's pore pressure (default "
                                                            "every dry soil: not a fluid, no 'pore_water')")
 
     @model_validator(mode="after")
     def _schedule(self):
-        check_schedule(self.times, self.heights, "heights", "height")
+        if self.surface is None and self.heights is None and self.pond is None:
+            raise ValueError("give 'heights' (a plane), a 'surface' or a 'pond'")
+        if self.surface is not None and self.normal is not None:
+            raise ValueError("a 'surface' is hydrostatic along the vertical: remove 'normal'")
+        if self.heights is not None:
+            check_schedule(self.times, self.heights, "heights", "height")
+        elif len(self.times) != 1:
+            raise ValueError("'times' schedules 'heights': give 'heights' (with a 'surface': its rise) one per time")
         if self.normal is not None and sum(v * v for v in self.normal) < 1e-12:
             raise ValueError("'normal' must not be zero")
         return self

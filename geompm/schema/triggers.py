@@ -11,6 +11,8 @@ Mohr-Coulomb-type laws).  `geompm stability` writes its trials with the same tri
 ``water_table``: a phreatic surface at height z_wt(t) along its normal n (default against gravity) whose
 pore pressure p = rho_w (-g . n) (z_wt - x . n) acts on the named dry soils (default every material that
 is neither a fluid nor saturated by ``pore_water``, which carries its own water); the CPU backend runs it.
+A ``surface`` from data and a ``pond`` are hydrostatic along the vertical: they need gravity along the last
+axis (-y in 2D, -z in 3D), their points inside the grid's plan, and their levels inside the grid.
 """
 
 from __future__ import annotations
@@ -50,6 +52,7 @@ def _water_table_problems(case, loaded) -> list[tuple[str, str]]:
         elif any(g) and sum(a * b for a, b in zip(spec.normal, g)) >= 0.0:
             out.append((f"{path}.normal", "the normal must point out of the ground, against gravity (its dot "
                                           "product with 'gravity' negative)"))
+    out += _surface_problems(case, spec, path)
     if spec.materials is None:
         if not water_table_materials(case, loaded):
             out.append((path, "no dry soil for the water table to act on (fluids have no skeleton; a material "
@@ -66,6 +69,57 @@ def _water_table_problems(case, loaded) -> list[tuple[str, str]]:
         elif case.materials[name].pore_water is not None:
             out.append((f"{path}.materials.{i}", f"material '{name}' has 'pore_water': its pore pressure is its "
                                                  "own (two-phase); leave it out of the water table"))
+    return out
+
+
+def _surface_problems(case, spec, path: str) -> list[tuple[str, str]]:
+    """A phreatic surface from data and a pond: vertical gravity, points in the grid's plan, levels in the
+    grid."""
+    if spec.surface is None and spec.pond is None:
+        return []
+    out = []
+    d = case.dimension
+    g = list(case.gravity)
+    lo = list(case.grid.origin)
+    hi = [a + b for a, b in zip(case.grid.origin, case.grid.extent)]
+    if len(g) == d and (any(g[:-1]) or not g[-1] < 0.0):
+        what = "surface" if spec.surface is not None else "pond"
+        out.append((f"{path}.{what}", f"a phreatic surface from data and a pond are hydrostatic along the vertical: "
+                                      f"they need gravity along -{'yz'[d - 2]} only (the case has {g}); "
+                                      "for a tilted frame use a planar table with 'normal'"))
+        return out
+    if spec.pond is not None:
+        for i, z in enumerate(spec.pond.levels):
+            if z > hi[-1]:
+                out.append((f"{path}.pond.levels.{i}", f"{z:g} m is above the grid's top ({hi[-1]:g} m): raise "
+                                                        "grid.extent or lower the pond"))
+    srf = spec.surface
+    if srf is None or srf.points is None:
+        if srf is not None and d == 2:
+            out.append((f"{path}.surface.raster", "a raster is a 3D surface; in 2D give the phreatic line's "
+                                                  "'points' [[x, z], ...]"))
+        return out
+    pts = srf.points
+    where = f"{path}.surface.points"
+    if len(pts[0]) != d:
+        out.append((where, f"a {d}D case takes points of {d} coordinates ([x, z] in 2D, [x, y, z] in 3D)"))
+        return out
+    if d == 2 and any(b[0] <= a[0] for a, b in zip(pts, pts[1:])):
+        i = next(i for i, (a, b) in enumerate(zip(pts, pts[1:])) if b[0] <= a[0]) + 1
+        out.append((f"{where}.{i}", f"x must increase along the line (point {i} at x = {pts[i][0]:g} m follows "
+                                    f"x = {pts[i - 1][0]:g} m)"))
+    if d == 3 and len(pts) < 3:
+        out.append((where, "a surface needs three points or more (a TIN)"))
+    rises = spec.heights if spec.heights is not None else [0.0]
+    for i, p in enumerate(pts):
+        if any(not lo[a] - 1e-9 <= p[a] <= hi[a] + 1e-9 for a in range(d - 1)):
+            out.append((f"{where}.{i}", f"{p} leaves the grid's plan ({', '.join(f'{a:g}..{b:g}' for a, b in zip(lo[:-1], hi[:-1]))} m): "
+                                        "give the line over the section the grid covers (it is held level beyond its ends)"))
+            break
+        if p[-1] + max(rises) > hi[-1]:
+            out.append((f"{where}.{i}", f"the surface at {p} (raised by up to {max(rises):g} m) is above the grid's top "
+                                        f"({hi[-1]:g} m): raise grid.extent or lower the surface"))
+            break
     return out
 
 

@@ -153,9 +153,10 @@ class Scheme:
         run.load()
 
     def p2g(self, run, dt: float) -> None:
-        """Mass, momentum and internal force onto the grid, the halo summed."""
+        """Mass, momentum, internal and external force (a pond's buoyancy) onto the grid, the halo summed."""
         be, view = run.backend, run.view
         be.p2g(view, 1.0 if be.split_force else dt)
+        run.external_force(view, dt)
         run.halo((view.g_mass, view.g_mom, view.g_force))
 
     def grid_update(self, run, dt: float) -> None:
@@ -235,6 +236,9 @@ class StepContext:
     def load(self) -> None:
         """What acts on the grid from outside the particles' state before P2G (a water table's pore pressure:
         engine/scheduler.py)."""
+
+    def external_force(self, view, dt: float) -> None:
+        """Nodal forces from outside the particles' stress after P2G (a pond's buoyancy: engine/scheduler.py)."""
 
     def window(self):
         """Particles to their rank, the sort when due, and this rank's grid window."""

@@ -7,6 +7,7 @@ arrays and scalars held by the Scene.
 from __future__ import annotations
 
 import json
+from pathlib import Path
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -15,6 +16,9 @@ from geompm.mpm.grid import GridSpec
 from geompm.mpm.state import ParticleState
 from geompm.errors import CaseError
 from geompm.setup.bodies import overlap_problems, seed_body
+from geompm.files.dem import read_dem
+from geompm.mpm.phreatic_surface import (LatticeSurface, PolylineSurface, lattice_points, table_warnings,
+                                        tin_lattice)
 from geompm.mpm.water_table import WaterTable
 from geompm.schema.triggers import water_table_materials
 from geompm.kernels.overburden import column_overburden
@@ -59,8 +63,8 @@ class Scene:
     scheme: object = None
     #: triggers.strength_reduction as (times [s], factors [-], material ids), or None (engine/triggers.py)
     strength_trigger: tuple | None = None
-    #: the water table's (times, heights, normal, gradient rho_w (-g . n), acts per material), or None
-    water_table: tuple | None = None
+    #: the water table (mpm/water_table.WaterTable), or None
+    water_table: object = None
     case_text: str = ""  # the case as JSON, for provenance only (the HDF5 file's attribute); never parsed
 
     @property
@@ -191,8 +195,12 @@ def assemble(loaded: LoadedCase) -> Scene:
     p_material = np.concatenate(mids)
     extra = _joined(extras, [len(x) for x in xs], scheme.body_width)
     weight = scheme.overburden_mass(p_mass, p_vol, p_material, extra)
-    table = _water_table(case, loaded, names, gravity)
-    pore = None if table is None else WaterTable(*table).pressure(p_x, p_material, 0.0)
+    table = _water_table(case, loaded, names, gravity, grid)
+    pore = None
+    if table is not None:
+        pore = table.excess(p_x, p_material, 0.0).copy()
+        weight = table.buoyant_mass(p_x, p_material, weight, p_vol)
+        loaded.warnings.extend(table_warnings(table, p_x, p_material, grid.h))
     stress = np.zeros((len(p_x), 6))
     for normal in dict.fromkeys(normals):
         mine = np.isin(body_of, [b for b, nb in enumerate(normals) if nb == normal]) & np.concatenate(geo)
@@ -292,14 +300,49 @@ def _strength_trigger(case, materials: list, names: list[str]) -> tuple | None:
     return tuple(spec.times), tuple(spec.factors), tuple(names.index(n) for n in wanted)
 
 
-def _water_table(case, loaded, names: list[str], gravity) -> tuple | None:
-    """(times, heights, unit normal, gradient rho_w (-g . n) [Pa/m], acts per material) of
-    ``triggers.water_table`` (schema/triggers.py checked it), or None."""
+def _water_table(case, loaded, names: list[str], gravity, grid) -> WaterTable | None:
+    """The water table of ``triggers.water_table`` (schema/triggers.py checked it), or None: a plane, a
+    surface from data (mpm/phreatic_surface.py) or a pond alone, with the pond if any."""
     spec = case.triggers.water_table if case.triggers is not None else None
     if spec is None:
         return None
-    normal = -gravity / np.linalg.norm(gravity) if spec.normal is None else np.asarray(spec.normal, float)
-    normal = normal / np.linalg.norm(normal)
     wanted = water_table_materials(case, loaded)
     acts = np.array([1.0 if n in wanted else 0.0 for n in names])
-    return (tuple(spec.times), tuple(spec.heights), normal, -spec.fluid_density * float(gravity @ normal), acts)
+    g_abs = float(np.linalg.norm(gravity))
+    up = len(gravity) - 1
+    pond = None if spec.pond is None else (tuple(spec.pond.times), tuple(spec.pond.levels))
+    common = dict(pond=pond, up=up, weight=spec.fluid_density * g_abs, rho_w=spec.fluid_density)
+    if spec.surface is not None or spec.heights is None:
+        surface = None if spec.surface is None else phreatic_surface(spec.surface, case, grid, loaded.base_dir)
+        rises = tuple(spec.heights) if spec.heights is not None else (0.0,)
+        return WaterTable(tuple(spec.times), rises if surface is not None else None, None, spec.fluid_density * g_abs,
+                          acts, surface=surface, **common)
+    normal = -gravity / np.linalg.norm(gravity) if spec.normal is None else np.asarray(spec.normal, float)
+    normal = normal / np.linalg.norm(normal)
+    return WaterTable(tuple(spec.times), tuple(spec.heights), normal, -spec.fluid_density * float(gravity @ normal),
+                      acts, **common)
+
+
+#: the most lattice points a 3D phreatic surface from points is sampled on (8 bytes each)
+MAX_LATTICE_POINTS = 50_000_000
+
+
+def phreatic_surface(spec, case, grid, base_dir):
+    """The phreatic surface of ``spec`` (schema PhreaticSurfaceSpec) over the grid's plan."""
+    where = "triggers.water_table.surface"
+    if case.dimension == 2:
+        pts = np.asarray(spec.points, float)
+        return PolylineSurface(pts[:, 0], pts[:, 1])
+    lo = np.asarray(case.grid.origin, float)[:2]
+    hi = lo + np.asarray(case.grid.extent, float)[:2]
+    if spec.raster is not None:
+        path = Path(base_dir) / spec.raster
+        return LatticeSurface(read_dem(path, f"{where}.raster", region=(tuple(lo), tuple(hi))), str(spec.raster))
+    count = lattice_points(lo, hi, grid.h)
+    if count > MAX_LATTICE_POINTS:
+        raise CaseError([(f"{where}.points", f"the surface's lattice over the grid's plan would hold {count:,} points "
+                                             f"(a quarter cell apart); at most {MAX_LATTICE_POINTS:,}: give a raster "
+                                             "instead")])
+    return LatticeSurface(tin_lattice(spec.points, lo, hi, grid.h), f"{len(spec.points)} points (a TIN)")
+
+
