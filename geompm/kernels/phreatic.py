@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from geompm.files.dem import bilinear
+from geompm.kernels.lattice import bilinear
 from geompm.kernels.shape import axis_stencil
 
 
@@ -51,7 +51,7 @@ def polyline_pressure(p_x, p_material, acts, xs, zs, rise, gradient, out):
 @njit(parallel=True, cache=True)
 def lattice_pressure(p_x, p_material, acts, z, x0, y0, dx, dy, rise, gradient, out):
     """out[p] = gradient * max(z_s(x, y) + rise - z, 0) in 3D below a phreatic surface given on a lattice
-    (files/dem.bilinear: z[i, j] at x0 + i dx, y0 + j dy, the edge values continued beyond), z up."""
+    (kernels/lattice.bilinear: z[i, j] at x0 + i dx, y0 + j dy, the edge values continued beyond), z up."""
     for p in prange(p_x.shape[0]):
         depth = bilinear(z, x0, y0, dx, dy, p_x[p, 0], p_x[p, 1]) + rise - p_x[p, 2]
         out[p] = gradient * depth * acts[p_material[p]] if depth > 0.0 else 0.0

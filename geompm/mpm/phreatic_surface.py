@@ -9,16 +9,18 @@ Brandon 2014, Soil Strength and Slope Stability, sec. 6.3, "piezometric line"), 
 - 3D: points (x, y, z), triangulated (a TIN: Delaunay in plan, linear on each triangle; beyond the
   points' hull the nearest point's height) and sampled on a lattice at a quarter of the cell size over the
   grid's plan, or a raster (GeoTIFF or ESRI ASCII grid, read as a DEM: files/dem.py), bilinear between its
-  pixel centres (kernels/phreatic.lattice_pressure).
+  pixel centres (kernels/phreatic.lattice_pressure; the raster is read by setup/assemble.py).
 
 Either rises or falls in time by the schedule's ``heights`` (the surface shifted along the vertical).
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
-from geompm.files.dem import Dem, heights as dem_heights
+from geompm.kernels.lattice import heights as lattice_heights
 from geompm.kernels.phreatic import lattice_pressure, polyline_pressure
 
 #: the lattice a 3D point set is sampled on, in cells
@@ -44,16 +46,28 @@ class PolylineSurface:
         return f"a phreatic line through {len(self.xs)} points, x {self.xs[0]:g}..{self.xs[-1]:g} m"
 
 
-class LatticeSurface:
-    """z_s(x, y) bilinear on a lattice (a Dem: heights at x0 + i dx, y0 + j dy)."""
+@dataclass
+class Lattice:
+    """Heights z[i, j] [m] at x0 + i dx, y0 + j dy (a raster's pixel centres: files/dem.Dem has these fields)."""
 
-    def __init__(self, dem: Dem, origin: str):
-        self.dem = dem
+    z: np.ndarray
+    x0: float
+    y0: float
+    dx: float
+    dy: float
+
+
+class LatticeSurface:
+    """z_s(x, y) bilinear on a lattice (kernels/lattice.bilinear)."""
+
+    def __init__(self, dem, origin: str):
+        self.dem = Lattice(np.ascontiguousarray(dem.z, float), float(dem.x0), float(dem.y0), float(dem.dx),
+                           float(dem.dy))
         self.origin = origin
 
     def elevation(self, plan: np.ndarray) -> np.ndarray:
         d = self.dem
-        return dem_heights(d.z, d.x0, d.y0, d.dx, d.dy, np.ascontiguousarray(plan[:, 0], float),
+        return lattice_heights(d.z, d.x0, d.y0, d.dx, d.dy, np.ascontiguousarray(plan[:, 0], float),
                            np.ascontiguousarray(plan[:, 1], float))
 
     def pressure(self, p_x, p_material, acts, rise, gradient, out) -> None:
@@ -64,7 +78,7 @@ class LatticeSurface:
         return f"a phreatic surface from {self.origin}"
 
 
-def tin_lattice(points, lo, hi, h) -> Dem:
+def tin_lattice(points, lo, hi, h) -> Lattice:
     """The TIN through ``points`` (n, 3) sampled on a lattice over the plan box [lo, hi] (2,) at
     LATTICE_CELLS * h, the nearest point's height beyond the hull."""
     from scipy.interpolate import LinearNDInterpolator, NearestNDInterpolator
@@ -78,7 +92,7 @@ def tin_lattice(points, lo, hi, h) -> Dem:
     hole = ~np.isfinite(z)
     if hole.any():
         z[hole] = NearestNDInterpolator(pts[:, :2], pts[:, 2])(gx[hole], gy[hole])
-    return Dem(np.ascontiguousarray(z), float(lo[0]), float(lo[1]), step, step, None, ())
+    return Lattice(np.ascontiguousarray(z), float(lo[0]), float(lo[1]), step, step)
 
 
 def lattice_points(lo, hi, h) -> int:

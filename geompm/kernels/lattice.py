@@ -1,0 +1,31 @@
+"""Heights on a regular lattice, bilinear between its points (a DEM's pixel centres: files/dem.py; a
+phreatic surface's lattice: mpm/phreatic_surface.py)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True, inline="always")
+def bilinear(z, x0, y0, dx, dy, x, y):
+    """Height [m] at (x, y) between the pixel centres of z (nx, ny), the edge heights continued beyond."""
+    nx, ny = z.shape
+    fx = (x - x0) / dx
+    fy = (y - y0) / dy
+    i = min(max(int(math.floor(fx)), 0), nx - 2)
+    j = min(max(int(math.floor(fy)), 0), ny - 2)
+    tx = min(max(fx - i, 0.0), 1.0)
+    ty = min(max(fy - j, 0.0), 1.0)
+    return ((1 - tx) * (1 - ty) * z[i, j] + tx * (1 - ty) * z[i + 1, j] + (1 - tx) * ty * z[i, j + 1]
+            + tx * ty * z[i + 1, j + 1])
+
+
+@njit(cache=True)
+def heights(z, x0, y0, dx, dy, xs, ys):
+    out = np.empty(xs.shape[0])
+    for p in range(xs.shape[0]):
+        out[p] = bilinear(z, x0, y0, dx, dy, xs[p], ys[p])
+    return out
