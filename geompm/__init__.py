@@ -21,14 +21,19 @@ SI units throughout: metres, seconds, kilograms, pascals.  The packages, lowest 
 
 from geompm.version import __version__
 
-__all__ = ["Run", "__version__", "run"]
+__all__ = ["Run", "__version__", "run", "stability"]
 
 
 def __getattr__(name: str):
-    """``geompm.run`` and ``geompm.Run`` (geompm/api.py), imported on first use so that ``import geompm``
-    stays light (numba and the laws load only when a case runs)."""
+    """``geompm.run`` and ``geompm.Run`` (geompm/api.py) and ``geompm.stability`` (the factor of safety,
+    stability/search_run.py), imported on first use so that ``import geompm`` stays light (numba and the laws
+    load only when a case runs)."""
     if name in ("run", "Run"):
         from geompm import api
 
         return getattr(api, name)
+    if name == "stability":
+        import geompm.stability
+
+        return geompm.stability
     raise AttributeError(f"module 'geompm' has no attribute {name!r}")

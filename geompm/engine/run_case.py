@@ -173,6 +173,7 @@ def write_status(run_dir: Path, scene, runner, summary, finished: bool, reason: 
         "obstacles": {o.label: {"peak_force": pk[0], "peak_time": pk[1], **hot_spot(o)}
                       for o in scene.stages if o.records_force and (pk := o.peak_force()) is not None},
         **({"mpi": {**sim.domain.report(sim.state), "peak_rss_bytes_per_rank": rss}} if comm.size > 1 else {}),
+        **({"gravity_loading": scene.loading} if scene.loading else {}),
         "geompm": __version__,
     }
     if comm.is_root:
@@ -246,6 +247,16 @@ def run_on_every_rank(runner, domain, run_dir):
         raise
 
 
+def settle(scene, spec) -> dict:
+    """The gravity-loading stage on the whole scene (engine/gravity_loading.py; every MPI rank alike, before
+    the run is shared), its report kept on the scene for status.json; SimulationError if it does not settle."""
+    from geompm.engine.gravity_loading import gravity_loading
+    from geompm.engine.scheduler import Simulation
+
+    scene.loading = gravity_loading(scene, spec, Simulation)
+    return scene.loading
+
+
 def run_case(case, out=None, overrides=(), progress: bool = True, resume=None, overwrite: bool = False,
              protect=(), quiet: bool = False, comm=None) -> Run:
     """Run ``case`` (a path to a case JSON, or a case dict) to its end time; see the module docstring.
@@ -280,6 +291,19 @@ def run_case(case, out=None, overrides=(), progress: bool = True, resume=None, o
     mem, _, dt = first_step_estimate(scene)
     run_dir = on_root(domain.comm, lambda: run_folder(loaded, scene, out, resume, overwrite, protect))
     setup_logging(run_dir if domain.comm.is_root else None, quiet=quiet, silent=not domain.comm.is_root)
+    if loaded.case.gravity_loading is not None and not resume:
+        try:
+            report = settle(scene, loaded.case.gravity_loading)
+        except SimulationError as exc:
+            log.error(f"error: {exc}")
+            status = {"case": scene.name, "finished": False, "reason": f"unphysical: {exc}", "time": 0.0,
+                      "steps": 0, "geompm": __version__}
+            if domain.comm.is_root:
+                atomic_write_json(run_dir / "status.json", status)
+            return Run(run_dir, UNPHYSICAL, status, {})
+        log.info(f"gravity loading: {report['steps']} steps over {report['time']:.4g} s (held at t = 0, drained, "
+                 f"local damping {loaded.case.gravity_loading.alpha:g}), unbalanced-force ratio {report['ratio']:.3g}, "
+                 f"largest displacement {report['max_displacement']:.3g} m (reset), {report['wall_seconds']:.1f} s wall")
     writers = list(scene.writers)
     if not any(isinstance(w, SeriesWriter) for w in writers):
         writers.insert(0, SeriesWriter(SeriesWriter.Params(), 0.0))

@@ -187,6 +187,10 @@ class PoreWaterSpec(Strict):
         "positive]: below it the water cavitates and the pore pressure is held there (default -100 kPa, about "
         "water's vapour pressure below one atmosphere; docs/pore-water.md, Suction)")
     fluid: PoreFluidSpec = Field(default_factory=PoreFluidSpec, description="The pore water")
+    drainage: Literal["coupled", "drained"] = Field(
+        "coupled", description="'coupled': the pore pressure follows the water's mass balance (two-phase); "
+        "'drained': it is held at its initial, steady state whatever the skeleton does (the water flows freely: "
+        "a long-term analysis; `geompm stability` runs its trials so, docs/pore-water.md)")
 
 
 class MaterialSpec(BaseModel):
@@ -445,6 +449,16 @@ class WaterTableSpec(Strict):
         return self
 
 
+class GravityLoadingSpec(Strict):
+    """A gravity-loading stage before the event (engine/gravity_loading.py)."""
+
+    tolerance: float = Field(1.0e-3, gt=0.0, lt=1.0, description="The unbalanced-force ratio at which the stage ends: "
+                             "the particles' mass-weighted RMS acceleration over |g| [-]")
+    max_time: float = Field(5.0, gt=0.0, le=1.0e4, description="The most simulated time [s] the stage may take; a "
+                            "case still out of balance then stops with exit 3 (raise it, or check the case's supports)")
+    alpha: float = Field(0.7, gt=0.0, lt=1.0, description="Cundall's local damping coefficient of the stage [-]")
+
+
 class TriggersSpec(Strict):
     strength_reduction: StrengthReductionSpec | None = Field(
         None, description="Divide the soils' shear strength by a factor F(t) (a strength ramp to failure)")
@@ -475,6 +489,10 @@ class Case(Strict):
     run: RunSpec = Field(default_factory=RunSpec)
     triggers: TriggersSpec | None = Field(None, description="What changes over the run to take a slope to failure "
                                                             "(docs/slope-stability.md)")
+    gravity_loading: GravityLoadingSpec | None = Field(
+        None, description="Bring the case to equilibrium under its own weight before the event: drained, under "
+                          "Cundall's local damping, at t = 0, until the unbalanced force falls below the tolerance; "
+                          "then the displacements and velocities are reset (docs/slope-stability.md)")
 
     @field_validator("crs")
     @classmethod

@@ -29,6 +29,7 @@ The engine's ``Simulation`` is a ``StepContext``.
 
 from __future__ import annotations
 
+import contextlib
 from typing import ClassVar, NamedTuple
 
 import numpy as np
@@ -203,6 +204,14 @@ class Scheme:
     def report(self, scene) -> list[str]:
         """Lines `geompm validate` prints about the scheme's step."""
         return []
+
+    def drained(self):
+        """A context in which the scheme holds its pore pressure, if it carries one, at its present state (the
+        gravity-loading stage: engine/gravity_loading.py); nothing for a dry scheme."""
+        return contextlib.nullcontext()
+
+    def at_rest(self, state) -> None:
+        """Zero what the scheme carries of the particles' motion beyond p_v and p_C (after gravity loading)."""
 
 
 class StepContext:

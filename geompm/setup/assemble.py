@@ -65,6 +65,8 @@ class Scene:
     strength_trigger: tuple | None = None
     #: the water table (mpm/water_table.WaterTable), or None
     water_table: object = None
+    #: the gravity-loading stage's report (engine/gravity_loading.py) once it ran, else None
+    loading: dict | None = None
     case_text: str = ""  # the case as JSON, for provenance only (the HDF5 file's attribute); never parsed
 
     @property

@@ -6,7 +6,7 @@ A trial is an ordinary run of the case with ``--set`` overrides (so its folder i
 - the strength trigger (schema: triggers.strength_reduction) holds F0 for the first quarter (the case
   comes to equilibrium from its initial state), ramps to F over the second quarter and holds F for the
   second half: F0 = 1, the soil as it is, for F >= 1; for F < 1, where the soil as it is cannot stand,
-  F0 = F / 2, twice the trial's strength (starting at F itself let the dynamic response to the initial
+  F0 = F / 2 (at least 0.05, the trigger's lowest factor), twice the trial's strength (starting at F itself let the dynamic response to the initial
   imbalance fail a slope that stands: on the infinite slope with phi = 15 deg on beta = 20 deg, h = 0.2 m,
   F came out 0.654 against tan(phi) / tan(beta) = 0.736); criterion.py reads the last quarter.  Every material
   whose law declares ``strength_reduction`` is reduced; others (a fluid, an elastic base) keep theirs.
@@ -18,6 +18,10 @@ A trial is an ordinary run of the case with ``--set`` overrides (so its folder i
   damping only if asked for (``alpha`` > 0): its force alpha |f| sign(v) rectifies the noise of the nodal
   forces into a friction that adds strength, +3.6 % to the infinite slope's F at alpha = 0.1 and growing
   with refinement where failure localises (docs/slope-stability.md);
+- a saturated material (``pore_water``) is drained: its pore pressure is held at its initial, steady state
+  (``pore_water.drainage: "drained"``), so that the trial reads the strength of the soil under that pressure
+  and not the creep of its consolidation (a long-term, drained factor of safety; an undrained one is the
+  law's undrained strength, c_u with phi = 0, not a reduction of the coupled run);
 - the outputs become series.csv with ``max_displacement`` (40 rows) and one VTU at the end (the mechanism).
 
 Starting every trial at once from the reduced strength instead (the first version) let the dynamic
@@ -34,6 +38,8 @@ from geompm.errors import CaseError
 
 SERIES_ROWS = 40
 XI = 1e-3
+#: the least factor a trial starts from (the strength trigger's lowest)
+LOWEST_START = 0.05
 
 
 def reducible_materials(loaded) -> list[str]:
@@ -64,17 +70,27 @@ def trial_damping(loaded, rate: float, alpha: float) -> list[dict]:
     return out
 
 
+def drained_materials(loaded) -> list[str]:
+    """The saturated materials (``pore_water``) whose pore pressure the trials hold at its initial state."""
+    return sorted(name for name, m in loaded.case.materials.items() if m.pore_water is not None)
+
+
 def trial_sets(loaded, factor: float, duration: float, damping: list[dict]) -> list[str]:
     """The --set overrides of the trial at ``factor``."""
-    f0 = 1.0 if factor >= 1.0 else 0.5 * factor
+    f0 = 1.0 if factor >= 1.0 else max(0.5 * factor, LOWEST_START)
     trigger = {"strength_reduction": {"times": [0.0, 0.25 * duration, 0.5 * duration],
                                       "factors": [f0, f0, float(factor)], "materials": reducible_materials(loaded)}}
     water = loaded.case.triggers.water_table if loaded.case.triggers is not None else None
     if water is not None:
-        trigger["water_table"] = {**water.model_dump(exclude_none=True), "times": [0.0],
-                                  "heights": [water.heights[0]]}
+        held = water.model_dump(exclude_none=True)
+        held["times"] = [0.0]
+        if water.heights is not None:
+            held["heights"] = [water.heights[0]]
+        if water.pond is not None:
+            held["pond"] = {"times": [0.0], "levels": [water.pond.levels[0]]}
+        trigger["water_table"] = held
     outputs = [{"writer": "series", "interval": duration / SERIES_ROWS, "displacement": True},
                {"writer": "vtu", "interval": duration}]
+    drained = [f"materials.{name}.pore_water.drainage=\"drained\"" for name in drained_materials(loaded)]
     return [f"triggers={json.dumps(trigger)}", f"time.end={json.dumps(duration)}",
-                   f"damping={json.dumps(damping)}",
-                   f"outputs={json.dumps(outputs)}"]
+            f"damping={json.dumps(damping)}", f"outputs={json.dumps(outputs)}", *drained]

@@ -43,9 +43,15 @@ def semi_implicit_warnings(case) -> list[tuple[str, str]]:
 
 def unsupported(case, loaded, incompressible: bool = False) -> list[tuple[str, str]]:
     """(JSON path, sentence) of what the scheme cannot run: APIC with linear hats; incompressible water
-    unless the scheme solves the pressure implicitly (``incompressible``)."""
+    unless the scheme solves the pressure implicitly (``incompressible``), drained water if it does."""
     out = [("solver.transfer", LINEAR_APIC)] if linear_apic(case) else []
-    if not incompressible:
+    if incompressible:
+        for name, mat in case.materials.items():
+            if mat.pore_water is not None and mat.pore_water.drainage == "drained":
+                out.append((f"materials.{name}.pore_water.drainage",
+                            "'drained' holds the pore pressure where the semi-implicit step solves for it: set "
+                            "solver.update to \"saturated\" for a drained analysis"))
+    else:
         for name, mat in case.materials.items():
             if mat.pore_water is not None and mat.pore_water.fluid.bulk_modulus == "incompressible":
                 out.append((f"materials.{name}.pore_water.fluid.bulk_modulus",

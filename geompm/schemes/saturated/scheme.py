@@ -17,6 +17,7 @@ dry ones do (docs/parallel.md).
 
 from __future__ import annotations
 
+import contextlib
 import math
 
 import numpy as np
@@ -74,6 +75,22 @@ class Saturated(Scheme):
         state.p_Cw = np.zeros_like(state.p_C)
         state.p_n = self.water.table[state.p_material, WATER.n0].copy()
         state.p_wt_depth = self.water.table_depth(state)
+
+    @contextlib.contextmanager
+    def drained(self):
+        """K_w = 0 in the pore pressure's increment while the context lasts: p held at its state (the water
+        flows freely through the skeleton), the table restored after (the backend's passes copy it when a
+        Simulation is made, so a Simulation made inside runs drained and one made after coupled)."""
+        saved = self.water.table[:, WATER.k_w].copy()
+        self.water.table[:, WATER.k_w] = 0.0
+        try:
+            yield
+        finally:
+            self.water.table[:, WATER.k_w] = saved
+
+    def at_rest(self, state) -> None:
+        state.p_vw[:] = 0.0
+        state.p_Cw[:] = 0.0
 
     def after_stages(self, scene) -> None:
         rows = [setup.wall_row(s.water_boundary()) for s in scene.stages if s.water_boundary() is not None]

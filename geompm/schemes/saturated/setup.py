@@ -38,8 +38,10 @@ def material_table(case, names) -> PoreWater | None:
         kappa = pw.intrinsic_permeability
         if kappa is None:
             kappa = pw.hydraulic_conductivity * f.viscosity / (f.density * STANDARD_GRAVITY)
+        # drained: K_w = 0 in the pressure's increment dp = -dt K_w / n [...] holds p at its initial state
+        k_w = 0.0 if pw.drainage == "drained" else INFINITE if f.bulk_modulus == "incompressible" else f.bulk_modulus
         table[k, list(WATER)] = (
-            f.density, INFINITE if f.bulk_modulus == "incompressible" else f.bulk_modulus, f.viscosity, pw.porosity, kappa,
+            f.density, k_w, f.viscosity, pw.porosity, kappa,
             1.0 if pw.permeability_update == "kozeny_carman" else 0.0, pw.max_porosity, pw.cavitation_pressure)
     g = np.asarray(case.gravity, float)
     norm = float(np.linalg.norm(g))

@@ -49,6 +49,26 @@ def saturated_infinite_slope_case(cell_size: float, slope: float = 20.0, frictio
     return case
 
 
+def two_phase_infinite_slope_case(cell_size: float, slope: float = 20.0, friction: float = 40.0,
+                                  conductivity: float = 1.0e-5, **over) -> dict:
+    """saturated_infinite_slope_case as two-phase soil: the same saturated density 2000 kg/m3 (n = 0.4,
+    rho_s = 2666.7 kg/m3, rho_w = 1000 kg/m3, K_w = 2e7 Pa), its pore pressure that of the table at its
+    surface with seepage parallel to the slope (``pore_pressure.table_normal``), hydraulic conductivity
+    ``conductivity`` [m/s]; PIC (the saturated step refuses APIC with linear hats) and the saturated step."""
+    case = infinite_slope_case(cell_size, slope=slope, friction=friction, dilation=friction, **over)
+    depth = case["bodies"][0]["geometry"]["max"][1]
+    n = 0.4
+    soil = case["materials"]["soil"]
+    soil["density"] = (2000.0 - n * 1000.0) / (1.0 - n)
+    soil["pore_water"] = {"porosity": n, "hydraulic_conductivity": conductivity,
+                          "fluid": {"density": 1000.0, "bulk_modulus": 2.0e7, "viscosity": 1.0e-3}}
+    case["solver"] = {"transfer": "pic", "update": "saturated"}
+    case["description"] += "; two-phase, table at the surface, seepage parallel to the slope"
+    case["bodies"][0].update({"initial_stress": "geostatic", "surface_normal": [0.0, 1.0],
+                              "pore_pressure": {"water_table": depth, "table_normal": [0.0, 1.0]}})
+    return case
+
+
 def saturated_limit_equilibrium(slope: float, friction: float, density: float = 2000.0, fluid: float = 1000.0) -> float:
     """F of a cohesionless infinite slope with the water table at its surface and slope-parallel seepage,
     (gamma' / gamma_sat) tan(phi) / tan(beta) (Skempton & DeLory 1957; Duncan, Wright & Brandon 2014, sec. 6.2)."""

@@ -1,0 +1,121 @@
+"""Slopes with water as engineers draw them (docs/slope-stability.md, "Water in slopes"): the new user's
+slope of issue 54, 10 m high at 1.5:1 (33.7 deg) on a rough rigid base at the toe's level, c' = 5 kPa,
+phi' = 30 deg, psi = 0, gamma_sat = 20 kN/m3, E = 20 MPa, nu = 0.3, drucker_prager with its plane-strain
+cone, linear shape functions, 2 x 2 particles per cell; the soil runs 12 m behind the crest to a smooth back
+wall, the crest at (12, 10) m, the toe at (27, 0) m, the grid to x = 40 m.
+
+- ``phreatic_line``: a curved phreatic surface from the back of the slope to its toe (a parabola-like
+  line through the points the user drew, level beyond them);
+- ``slope_case``: the slope drained under that line (``triggers.water_table.surface``) or a pond;
+- ``two_phase_slope_case``: the same slope as two-phase soil, hydrostatic below the line at t = 0;
+- ``bishop_with_line``: Bishop's simplified F with u = gamma_w (z_line(x) - z_arc) on the slip surface, the
+  limit-equilibrium reference (bishop.py).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from geompm.testing.verification.bishop import critical_circle, surface_from_points
+
+HEIGHT, CREST_X, TOE_X, EXTENT_X = 10.0, 12.0, 27.0, 40.0
+GAMMA = 20000.0
+RHO = GAMMA / 9.81
+RHO_W = 1000.0
+
+
+def phreatic_line(back: float = 8.0, toe: float = 0.0) -> list[list[float]]:
+    """A phreatic line falling from ``back`` [m] at the back wall to ``toe`` [m] at the toe, curved as seepage
+    towards a toe drain draws it (Casagrande's basic parabola in shape: z = toe + (back - toe) sqrt(1 - s)
+    over the distance share s from the back to the toe), sampled every metre."""
+    xs = np.linspace(0.0, TOE_X, 28)
+    s = xs / TOE_X
+    zs = toe + (back - toe) * np.sqrt(np.clip(1.0 - s, 0.0, 1.0))
+    ground = np.interp(xs, [0.0, CREST_X, TOE_X], [HEIGHT, HEIGHT, 0.0])
+    zs = np.minimum(zs, ground)  # inside the ground: at or below the face
+    return [[float(x), float(z)] for x, z in zip(xs, zs)]
+
+
+def slope_case(cell_size: float, end: float = 3.0, line=None, pond=None, cohesion: float = 5.0e3,
+               friction: float = 30.0) -> dict:
+    """The slope, drained, under the phreatic ``line`` (points [[x, z], ...]; None: dry) and a ``pond``
+    ({"times": [...], "levels": [...]}; None: none)."""
+    case = {
+        "name": "water_slope",
+        "description": "10 m slope at 1.5:1, c' 5 kPa, phi' 30 deg, on a rigid base; drained under a phreatic "
+                       "line / pond (docs/slope-stability.md, Water in slopes)",
+        "dimension": 2,
+        "grid": {"origin": [0.0, 0.0], "extent": [EXTENT_X, HEIGHT + 4 * cell_size], "cell_size": cell_size,
+                 "shape_function": "linear"},
+        "time": {"end": end, "cfl": 0.4},
+        "gravity": [0.0, -9.81],
+        "solver": {"transfer": "apic", "update": "usl"},
+        "materials": {"soil": {"model": "drucker_prager", "density": RHO, "youngs_modulus": 2.0e7,
+                               "poisson_ratio": 0.3, "friction_angle": friction, "cohesion": cohesion,
+                               "dilation_angle": 0.0}},
+        "bodies": [{"material": "soil", "geometry": {"type": "polygon", "vertices": [
+            [0.0, 0.0], [TOE_X, 0.0], [CREST_X, HEIGHT], [0.0, HEIGHT]]},
+                    "particles_per_cell": 2, "initial_stress": "geostatic"}],
+        "boundaries": [{"type": "wall", "side": "y-", "condition": "fixed"},
+                       {"type": "wall", "side": "x-", "condition": "slip"}],
+        "outputs": [{"writer": "series", "interval": end / 40}],
+    }
+    water = {}
+    if line is not None:
+        water["surface"] = {"points": line}
+    if pond is not None:
+        water["pond"] = pond
+    if water:
+        case["triggers"] = {"water_table": water}
+    return case
+
+
+def two_phase_slope_case(cell_size: float, end: float = 0.5, table: float | None = 2.0, conductivity: float = 1e-6,
+                         loading: bool = True, tolerance: float = 1e-4) -> dict:
+    """The slope as two-phase soil (n = 0.4, rho_sat = gamma / g, K_w = 2e7 Pa), PIC, hydrostatic below a
+    level table at ``table`` [m] (None: below its own surface, column by column), with a gravity-loading stage
+    if ``loading``; at rest over ``end``."""
+    case = slope_case(cell_size, end=end)
+    n = 0.4
+    soil = case["materials"]["soil"]
+    soil["density"] = (RHO - n * RHO_W) / (1.0 - n)
+    soil["pore_water"] = {"porosity": n, "hydraulic_conductivity": conductivity,
+                          "fluid": {"density": RHO_W, "bulk_modulus": 2.0e7, "viscosity": 1.0e-3}}
+    case["solver"] = {"transfer": "pic", "update": "saturated"}
+    if table is not None:
+        case["bodies"][0]["pore_pressure"] = {"water_table": table}
+    if loading:
+        case["gravity_loading"] = {"tolerance": tolerance, "max_time": 10.0}
+    case["outputs"] = [{"writer": "series", "interval": end / 10}]
+    return case
+
+
+def bishop_with_line(line=None, cohesion: float = 5.0e3, friction: float = 30.0, pond: float | None = None):
+    """(F, circle) of Bishop's simplified method over circles that stay above the base, with the pore pressure
+    gamma_w max(z_line(x), z_pond) - z_arc on the slip surface and, under a pond, its water's weight on the
+    slices and the pond's thrust as the water's weight over the submerged face (the slices then weigh their
+    soil and the water above it; the pressure on the face balances in moment as the water's column weight
+    does: Duncan, Wright & Brandon 2014, sec. 6.5, 'submerged slopes')."""
+    ground = surface_from_points([-100.0, CREST_X, TOE_X, 200.0], [HEIGHT, HEIGHT, 0.0, 0.0])
+    xs_line = None if line is None else np.asarray(line, float)
+
+    def head(x):
+        z = -np.inf if xs_line is None else float(np.interp(x, xs_line[:, 0], xs_line[:, 1]))
+        return max(z, pond) if pond is not None else z
+
+    def pore(x, y):
+        return RHO_W * 9.81 * max(head(x) - y, 0.0)
+
+    surface = ground
+    gamma = GAMMA
+    if pond is not None and pond > 0.0:
+        # the pond's water over the face weighs on the slices as soil of unit weight gamma_w would: the
+        # ground raised to the pond with a lighter top (Bishop with a water load on the slope)
+        surface = _with_water(ground, pond)
+    return critical_circle(surface if pond is None else surface, cohesion, friction, gamma,
+                           (np.linspace(5, 35, 11), np.linspace(8, 30, 11)), np.linspace(5, 40, 15),
+                           base=0.0, lo=0.0, hi=EXTENT_X, pore=pore)
+
+
+def _with_water(ground, pond):
+    return ground
