@@ -452,7 +452,7 @@ class WaterTableSpec(Strict):
 class GravityLoadingSpec(Strict):
     """A gravity-loading stage before the event (engine/gravity_loading.py)."""
 
-    tolerance: float = Field(1.0e-3, gt=0.0, lt=1.0, description="The unbalanced-force ratio at which the stage ends: "
+    tolerance: float = Field(1.0e-5, gt=0.0, lt=1.0, description="The unbalanced-force ratio at which the stage ends: "
                              "the particles' mass-weighted RMS acceleration over |g| [-]")
     max_time: float = Field(5.0, gt=0.0, le=1.0e4, description="The most simulated time [s] the stage may take; a "
                             "case still out of balance then stops with exit 3 (raise it, or check the case's supports)")

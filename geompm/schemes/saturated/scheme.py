@@ -78,15 +78,15 @@ class Saturated(Scheme):
 
     @contextlib.contextmanager
     def drained(self):
-        """K_w = 0 in the pore pressure's increment while the context lasts: p held at its state (the water
-        flows freely through the skeleton), the table restored after (the backend's passes copy it when a
-        Simulation is made, so a Simulation made inside runs drained and one made after coupled)."""
-        saved = self.water.table[:, WATER.k_w].copy()
-        self.water.table[:, WATER.k_w] = 0.0
+        """Every saturated material drained while the context lasts (setup.drain: p held, the water bound to
+        the grains), the table restored after (the backend's passes copy it when a Simulation is made, so a
+        Simulation made inside runs drained and one made after coupled)."""
+        saved = self.water.table.copy()
+        setup.drain(self.water.table, np.asarray(self.water.wet, bool))
         try:
             yield
         finally:
-            self.water.table[:, WATER.k_w] = saved
+            self.water.table[:] = saved
 
     def at_rest(self, state) -> None:
         state.p_vw[:] = 0.0

@@ -22,6 +22,8 @@ from geompm.schemes.saturated.surface import column_surface
 STANDARD_GRAVITY = 9.80665
 #: an incompressible water's bulk modulus in the table (its storage n / K_w is 0)
 INFINITE = float("inf")
+#: a drained material's permeability factor (setup.drain): the water's relative velocity 1e-12 of Darcy's
+DRAINED_KAPPA = 1.0e-12
 
 
 def material_table(case, names) -> PoreWater | None:
@@ -38,17 +40,27 @@ def material_table(case, names) -> PoreWater | None:
         kappa = pw.intrinsic_permeability
         if kappa is None:
             kappa = pw.hydraulic_conductivity * f.viscosity / (f.density * STANDARD_GRAVITY)
-        # drained: K_w = 0 in the pressure's increment dp = -dt K_w / n [...] holds p at its initial state
-        k_w = 0.0 if pw.drainage == "drained" else INFINITE if f.bulk_modulus == "incompressible" else f.bulk_modulus
+        k_w = INFINITE if f.bulk_modulus == "incompressible" else f.bulk_modulus
         table[k, list(WATER)] = (
             f.density, k_w, f.viscosity, pw.porosity, kappa,
             1.0 if pw.permeability_update == "kozeny_carman" else 0.0, pw.max_porosity, pw.cavitation_pressure)
+    drain(table, [s is not None and s.drainage == "drained" for s in specs])
     g = np.asarray(case.gravity, float)
     norm = float(np.linalg.norm(g))
     return PoreWater(table=table, wet=[s is not None for s in specs], up=None if norm == 0.0 else -g / norm,
                      g=norm, smoothing=case.solver.pore_pressure_smoothing,
                      grid=(np.asarray(case.grid.origin, float), np.asarray(case.grid.extent, float),
                            float(case.grid.cell_size)))
+
+
+def drain(table: np.ndarray, rows) -> None:
+    """Make the ``rows`` (a mask or indices) of the pore-water table drained: the pore pressure held at its
+    state (K_w = 0 in dp = -dt (K_w / n) [...]) and the water bound to the grains (kappa times DRAINED_KAPPA:
+    the implicit drag's relative velocity w -> 0), so that the mixture moves under sigma' - p I with the held
+    p, whose gradient carries the seepage force, as a drained soil under a water table does
+    (mpm/water_table.py)."""
+    table[rows, WATER.k_w] = 0.0
+    table[rows, WATER.kappa0] *= DRAINED_KAPPA
 
 
 def skeleton_params(case, name: str, params):

@@ -62,9 +62,11 @@ def _slip_interval(surface, xc, yc, R, lo, hi, samples=400):
 
 
 def bishop_factor(surface, xc, yc, R, c, phi_deg, gamma, base=-np.inf, slices=80, pore=None, lo=-1e9, hi=1e9,
-                  tol=1e-9):
+                  tol=1e-9, column=None):
     """Bishop's simplified F of one circle (module docstring); None if the circle cuts no soil, passes below
-    ``base`` or drives nothing.  ``pore(x, y)``: pore pressure [Pa] on the slip surface (default none)."""
+    ``base`` or drives nothing.  ``pore(x, y)``: pore pressure [Pa] on the slip surface (default none);
+    ``column(x, y_arc)``: a slice's weight per unit width [Pa] in place of gamma (y_s - y_arc) (a soil of two
+    unit weights: buoyant below a pond)."""
     span = _slip_interval(surface, xc, yc, R, lo, hi)
     if span is None:
         return None
@@ -75,7 +77,7 @@ def bishop_factor(surface, xc, yc, R, c, phi_deg, gamma, base=-np.inf, slices=80
     arc = yc - root
     if arc.min() < base - 1e-9 or (yc - R < base - 1e-9 and x1 <= xc <= x2):
         return None
-    W = gamma * b * np.maximum(surface(x) - arc, 0.0)
+    W = b * (gamma * np.maximum(surface(x) - arc, 0.0) if column is None else column(x, arc))
     sin_a = (x - xc) / R
     drive = float(np.sum(W * sin_a))
     if abs(drive) < 1e-12 * max(float(W.sum()), 1e-300):

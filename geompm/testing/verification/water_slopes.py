@@ -71,7 +71,7 @@ def slope_case(cell_size: float, end: float = 3.0, line=None, pond=None, cohesio
 
 
 def two_phase_slope_case(cell_size: float, end: float = 0.5, table: float | None = 2.0, conductivity: float = 1e-6,
-                         loading: bool = True, tolerance: float = 1e-4) -> dict:
+                         loading: bool = True, tolerance: float = 1e-5) -> dict:
     """The slope as two-phase soil (n = 0.4, rho_sat = gamma / g, K_w = 2e7 Pa), PIC, hydrostatic below a
     level table at ``table`` [m] (None: below its own surface, column by column), with a gravity-loading stage
     if ``loading``; at rest over ``end``."""
@@ -90,32 +90,34 @@ def two_phase_slope_case(cell_size: float, end: float = 0.5, table: float | None
     return case
 
 
-def bishop_with_line(line=None, cohesion: float = 5.0e3, friction: float = 30.0, pond: float | None = None):
-    """(F, circle) of Bishop's simplified method over circles that stay above the base, with the pore pressure
-    gamma_w max(z_line(x), z_pond) - z_arc on the slip surface and, under a pond, its water's weight on the
-    slices and the pond's thrust as the water's weight over the submerged face (the slices then weigh their
-    soil and the water above it; the pressure on the face balances in moment as the water's column weight
-    does: Duncan, Wright & Brandon 2014, sec. 6.5, 'submerged slopes')."""
+def bishop_with_line(line=None, cohesion: float = 5.0e3, friction: float = 30.0, pond: float | None = None,
+                     centres=None, radii=None):
+    """(F, circle) of Bishop's simplified method over circles that stay above the base, under the phreatic
+    ``line`` (points [[x, z], ...]) and a ``pond`` at level z_p [m]: the pore pressure on the slip surface
+    u = gamma_w (max(z_line(x), z_p) - z_arc), and the pond's water on the submerged face.  The pond is taken
+    as buoyant unit weight below its level and the excess u - gamma_w (z_p - z_arc) on the base, which is the
+    same equilibrium as the slices' total weight with the pond's water column on them and the full u (the
+    hydrostatic pond pressure over the sliding mass's closed boundary is its buoyancy; per slice, the
+    vertical balance W + W_water - u b = W' - u_excess b), and what the run itself does
+    (mpm/water_table.py)."""
     ground = surface_from_points([-100.0, CREST_X, TOE_X, 200.0], [HEIGHT, HEIGHT, 0.0, 0.0])
-    xs_line = None if line is None else np.asarray(line, float)
+    pts = None if line is None else np.asarray(line, float)
+    g_w = RHO_W * 9.81
+    z_p = -np.inf if pond is None else float(pond)
 
-    def head(x):
-        z = -np.inf if xs_line is None else float(np.interp(x, xs_line[:, 0], xs_line[:, 1]))
-        return max(z, pond) if pond is not None else z
+    def table(x):
+        return -np.inf if pts is None else float(np.interp(x, pts[:, 0], pts[:, 1]))
 
     def pore(x, y):
-        return RHO_W * 9.81 * max(head(x) - y, 0.0)
+        head = max(table(x), z_p)
+        return g_w * (max(head - y, 0.0) - max(z_p - y, 0.0))
 
-    surface = ground
-    gamma = GAMMA
-    if pond is not None and pond > 0.0:
-        # the pond's water over the face weighs on the slices as soil of unit weight gamma_w would: the
-        # ground raised to the pond with a lighter top (Bishop with a water load on the slope)
-        surface = _with_water(ground, pond)
-    return critical_circle(surface if pond is None else surface, cohesion, friction, gamma,
-                           (np.linspace(5, 35, 11), np.linspace(8, 30, 11)), np.linspace(5, 40, 15),
-                           base=0.0, lo=0.0, hi=EXTENT_X, pore=pore)
+    def column(x, arc):
+        top = ground(x)
+        submerged = np.clip(z_p - arc, 0.0, np.maximum(top - arc, 0.0))
+        return GAMMA * np.maximum(top - arc, 0.0) - g_w * submerged
 
-
-def _with_water(ground, pond):
-    return ground
+    centres = centres or (np.linspace(5, 35, 11), np.linspace(8, 30, 11))
+    radii = np.linspace(5, 40, 15) if radii is None else radii
+    return critical_circle(ground, cohesion, friction, GAMMA, centres, radii, base=0.0, lo=0.0, hi=EXTENT_X,
+                           pore=pore, column=None if pond is None else column)
