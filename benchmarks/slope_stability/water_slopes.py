@@ -30,6 +30,7 @@ def water_of(name: str):
     if name == "line":
         return phreatic_line(back=6.0), None
     level = float(name[5:] if name.startswith("rapid") else name[4:])
+    level = None if level <= 0.0 else level  # a pond at the toe's level or below: none
     if name.startswith("slow"):
         return None, level
     ground = [[0.0, HEIGHT], [CREST_X, HEIGHT], [TOE_X, 0.0]]  # saturated to its surface: the line on the ground

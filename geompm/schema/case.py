@@ -290,6 +290,30 @@ class VelocityProfile(Strict):
     start: float = Field(0.0, description="x0 [m]: where the sine is zero")
 
 
+class PhreaticSurfaceSpec(Strict):
+    """A phreatic surface from data, hydrostatic along the vertical below it (docs/slope-stability.md, "A
+    phreatic surface from data")."""
+
+    points: list[list[float]] | None = Field(
+        None, min_length=2, max_length=100000, description="2D: the phreatic line's points [x, z] [m] along the "
+        "section, x increasing (level beyond the ends); 3D: points [x, y, z] [m] of the surface, triangulated "
+        "(a TIN; the nearest point's height beyond their hull)")
+    raster: str | None = Field(None, description="3D: a GeoTIFF or ESRI ASCII grid of the surface's height [m] "
+                                                 "(path relative to the case file), bilinear between pixel centres")
+
+    @model_validator(mode="after")
+    def _one_source(self):
+        if (self.points is None) == (self.raster is None):
+            raise ValueError("give exactly one of 'points' and 'raster'")
+        if self.points is not None:
+            sizes = {len(p) for p in self.points}
+            if len(sizes) != 1 or sizes.pop() not in (2, 3):
+                raise ValueError("every point needs the same number of coordinates: [x, z] in 2D, [x, y, z] in 3D")
+            if any(not all(abs(v) < 1e12 for v in p) for p in self.points):
+                raise ValueError("every coordinate must be finite")
+        return self
+
+
 class PorePressureSpec(Strict):
     """The initial pore pressure of a body of saturated material: hydrostatic below the water table,
     plus a uniform excess."""
@@ -304,6 +328,9 @@ class PorePressureSpec(Strict):
         "to the slope: p = rho_w (-g . normal)(z_wt - x . normal), the infinite slope's flow net); 'water_table' "
         "is then its height along this normal. Default: against gravity (a level table, hydrostatic)")
 
+    surface: PhreaticSurfaceSpec | None = Field(
+        None, description="A phreatic surface from data ('points': a line [[x, z], ...] in 2D, [[x, y, z], ...] in "
+        "3D): hydrostatic along the vertical below it, dry above (in place of 'water_table')")
     hydrostatic: bool = Field(
         True, description="false: the body is saturated throughout at the uniform 'excess' only, its water carrying "
         "no weight at t = 0 (a bed wetted to saturation from above, tensiometers reading p near 0); then "
@@ -313,7 +340,12 @@ class PorePressureSpec(Strict):
     def _normal_not_zero(self):
         if self.table_normal is not None and sum(v * v for v in self.table_normal) < 1e-12:
             raise ValueError("'table_normal' must not be zero")
-        if not self.hydrostatic and (self.water_table is not None or self.table_normal is not None):
+        if self.surface is not None and (self.water_table is not None or self.table_normal is not None):
+            raise ValueError("give a 'surface' or a 'water_table' (with 'table_normal'), not both")
+        if self.surface is not None and self.surface.raster is not None:
+            raise ValueError("a body's phreatic 'surface' takes 'points' (a raster is the water table trigger's)")
+        if not self.hydrostatic and (self.water_table is not None or self.table_normal is not None
+                                     or self.surface is not None):
             raise ValueError("'hydrostatic': false saturates the whole body at the uniform 'excess'; remove "
                              "'water_table' and 'table_normal' (or set 'hydrostatic' true)")
         return self
@@ -368,30 +400,6 @@ class StrengthReductionSpec(Strict):
         check_schedule(self.times, self.factors, "factors", "factor")
         if any(not 0.05 <= f <= 20.0 for f in self.factors):
             raise ValueError("every factor must lie in [0.05, 20] (F = 1: the soil as given)")
-        return self
-
-
-class PhreaticSurfaceSpec(Strict):
-    """A phreatic surface from data, hydrostatic along the vertical below it (docs/slope-stability.md, "A
-    phreatic surface from data")."""
-
-    points: list[list[float]] | None = Field(
-        None, min_length=2, max_length=100000, description="2D: the phreatic line's points [x, z] [m] along the "
-        "section, x increasing (level beyond the ends); 3D: points [x, y, z] [m] of the surface, triangulated "
-        "(a TIN; the nearest point's height beyond their hull)")
-    raster: str | None = Field(None, description="3D: a GeoTIFF or ESRI ASCII grid of the surface's height [m] "
-                                                 "(path relative to the case file), bilinear between pixel centres")
-
-    @model_validator(mode="after")
-    def _one_source(self):
-        if (self.points is None) == (self.raster is None):
-            raise ValueError("give exactly one of 'points' and 'raster'")
-        if self.points is not None:
-            sizes = {len(p) for p in self.points}
-            if len(sizes) != 1 or sizes.pop() not in (2, 3):
-                raise ValueError("every point needs the same number of coordinates: [x, z] in 2D, [x, y, z] in 3D")
-            if any(not all(abs(v) < 1e12 for v in p) for p in self.points):
-                raise ValueError("every coordinate must be finite")
         return self
 
 

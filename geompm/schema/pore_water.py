@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from geompm.schema.triggers import surface_points_problems, vertical_gravity_problems
+
 
 
 def saturated_materials(case) -> set[str]:
@@ -56,6 +58,10 @@ def pore_water_problems(case, loaded) -> list[tuple[str, str]]:
             out.append((path, f"material '{body.material}' has no 'pore_water': add it to the material or "
                               "remove pore_pressure"))
             continue
+        if spec.surface is not None:
+            where = f"{path}.surface"
+            out += vertical_gravity_problems(case, where) or surface_points_problems(case, spec.surface.points,
+                                                                                     f"{where}.points")
         if spec.water_table is not None:
             if up is None:
                 out.append((f"{path}.water_table", "a water table needs gravity (it is a height against it); "

@@ -77,16 +77,10 @@ def _surface_problems(case, spec, path: str) -> list[tuple[str, str]]:
     grid."""
     if spec.surface is None and spec.pond is None:
         return []
-    out = []
     d = case.dimension
-    g = list(case.gravity)
-    lo = list(case.grid.origin)
     hi = [a + b for a, b in zip(case.grid.origin, case.grid.extent)]
-    if len(g) == d and (any(g[:-1]) or not g[-1] < 0.0):
-        what = "surface" if spec.surface is not None else "pond"
-        out.append((f"{path}.{what}", f"a phreatic surface from data and a pond are hydrostatic along the vertical: "
-                                      f"they need gravity along -{'yz'[d - 2]} only (the case has {g}); "
-                                      "for a tilted frame use a planar table with 'normal'"))
+    out = vertical_gravity_problems(case, f"{path}.{'surface' if spec.surface is not None else 'pond'}")
+    if out:
         return out
     if spec.pond is not None:
         for i, z in enumerate(spec.pond.levels):
@@ -99,25 +93,43 @@ def _surface_problems(case, spec, path: str) -> list[tuple[str, str]]:
             out.append((f"{path}.surface.raster", "a raster is a 3D surface; in 2D give the phreatic line's "
                                                   "'points' [[x, z], ...]"))
         return out
-    pts = srf.points
-    where = f"{path}.surface.points"
+    rises = spec.heights if spec.heights is not None else [0.0]
+    return out + surface_points_problems(case, srf.points, f"{path}.surface.points", max(rises))
+
+
+def vertical_gravity_problems(case, where: str) -> list[tuple[str, str]]:
+    """A surface hydrostatic along the vertical needs gravity along the last axis, downwards."""
+    d, g = case.dimension, list(case.gravity)
+    if len(g) == d and (any(g[:-1]) or not g[-1] < 0.0):
+        return [(where, f"a phreatic surface from data and a pond are hydrostatic along the vertical: they need "
+                        f"gravity along -{'yz'[d - 2]} only (the case has {g}); for a tilted frame use a planar "
+                        "table with 'normal'")]
+    return []
+
+
+def surface_points_problems(case, pts, where: str, rise: float = 0.0) -> list[tuple[str, str]]:
+    """A drawn surface's points: their dimension, x increasing along a 2D line, inside the grid's plan and,
+    raised by ``rise`` [m], below the grid's top."""
+    d = case.dimension
+    lo = list(case.grid.origin)
+    hi = [a + b for a, b in zip(case.grid.origin, case.grid.extent)]
     if len(pts[0]) != d:
-        out.append((where, f"a {d}D case takes points of {d} coordinates ([x, z] in 2D, [x, y, z] in 3D)"))
-        return out
+        return [(where, f"a {d}D case takes points of {d} coordinates ([x, z] in 2D, [x, y, z] in 3D)")]
+    out = []
     if d == 2 and any(b[0] <= a[0] for a, b in zip(pts, pts[1:])):
         i = next(i for i, (a, b) in enumerate(zip(pts, pts[1:])) if b[0] <= a[0]) + 1
         out.append((f"{where}.{i}", f"x must increase along the line (point {i} at x = {pts[i][0]:g} m follows "
                                     f"x = {pts[i - 1][0]:g} m)"))
     if d == 3 and len(pts) < 3:
         out.append((where, "a surface needs three points or more (a TIN)"))
-    rises = spec.heights if spec.heights is not None else [0.0]
     for i, p in enumerate(pts):
         if any(not lo[a] - 1e-9 <= p[a] <= hi[a] + 1e-9 for a in range(d - 1)):
-            out.append((f"{where}.{i}", f"{p} leaves the grid's plan ({', '.join(f'{a:g}..{b:g}' for a, b in zip(lo[:-1], hi[:-1]))} m): "
-                                        "give the line over the section the grid covers (it is held level beyond its ends)"))
+            plan = ", ".join(f"{a:g}..{b:g}" for a, b in zip(lo[:-1], hi[:-1]))
+            out.append((f"{where}.{i}", f"{p} leaves the grid's plan ({plan} m): give the line over the section "
+                                        "the grid covers (it is held level beyond its ends)"))
             break
-        if p[-1] + max(rises) > hi[-1]:
-            out.append((f"{where}.{i}", f"the surface at {p} (raised by up to {max(rises):g} m) is above the grid's top "
+        if p[-1] + rise > hi[-1]:
+            out.append((f"{where}.{i}", f"the surface at {p} (raised by up to {rise:g} m) is above the grid's top "
                                         f"({hi[-1]:g} m): raise grid.extent or lower the surface"))
             break
     return out

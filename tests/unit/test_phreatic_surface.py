@@ -153,3 +153,24 @@ def test_a_table_above_the_ground_is_warned_as_a_pond_and_not_under_a_pond():
     loaded = parse_case(c, ".")
     assemble(loaded)
     assert not any("above the ground" in t for _, t in loaded.warnings)
+
+
+def test_a_two_phase_body_starts_hydrostatic_below_its_drawn_line():
+    """bodies.N.pore_pressure.surface: the two-phase slope's initial pore pressure is rho_w g (z_line(x) - z)
+    below the line (its particles saturated) and zero above (dry)."""
+    from geompm.testing.verification.water_slopes import phreatic_line, two_phase_slope_case
+
+    case = two_phase_slope_case(1.0, loading=False, table=None)
+    line = phreatic_line(back=6.0)
+    case["bodies"][0]["pore_pressure"] = {"surface": {"points": line}}
+    st = scene_from_dict(case).state
+    pts = np.asarray(line)
+    z_s = np.interp(st.p_x[:, 0], pts[:, 0], pts[:, 1])
+    below = st.p_x[:, 1] <= z_s
+    assert st.p_pore == pytest.approx(RHO_W * G * np.maximum(z_s - st.p_x[:, 1], 0.0), rel=1e-9, abs=1e-6)
+    assert (st.p_sat[below] == 1.0).all() and (st.p_sat[~below] == 0.0).all() and 0 < below.sum() < len(below)
+    case["bodies"][0]["pore_pressure"]["surface"]["points"] = [[0.0, 1.0], [50.0, 1.0]]
+    with pytest.raises(CaseError) as exc:
+        assemble(parse_case(case, "."))
+    assert any(p == "bodies.0.pore_pressure.surface.points.1" and "leaves the grid's plan" in t
+               for p, t in exc.value.problems)

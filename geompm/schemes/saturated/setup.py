@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from geompm.mpm.phreatic_surface import LatticeSurface, PolylineSurface, tin_lattice
 from geompm.schemes.saturated.fields import PoreWater
 from geompm.schemes.saturated.kernels import WALL, WATER
 from geompm.schemes.saturated.surface import column_surface
@@ -83,7 +84,8 @@ def body_water(body, pw: PoreWater, mid: int, pts: np.ndarray, h: float, ppc: in
     hydrostatic below its own surface everywhere, as the geostatic overburden weighs it.  Below a level
     ``water_table`` p = rho_w |g| depth; below a table parallel to a slope (``table_normal`` n)
     p = rho_w (-g . n) depth along n, seepage parallel to the slope; with ``hydrostatic`` false (or no
-    gravity) saturated throughout at the uniform excess."""
+    gravity) saturated throughout at the uniform excess; below a drawn ``surface`` (points) hydrostatic along
+    the vertical, dry above."""
     if not pw.wet[mid]:
         return None
     spec = body.pore_pressure
@@ -94,6 +96,11 @@ def body_water(body, pw: PoreWater, mid: int, pts: np.ndarray, h: float, ppc: in
         return np.ones(n), np.full(n, top), np.full(n, excess), np.zeros(n)
     rho_w = pw.table[mid, WATER.rho_w]
     excess = 0.0 if spec is None else spec.excess
+    if spec is not None and spec.surface is not None:  # a drawn phreatic surface, hydrostatic along the vertical
+        z_s = drawn_surface(spec.surface, pw, pts)
+        height = pts @ pw.up
+        sat = (height <= z_s + 1e-9 * h).astype(float)
+        return sat, z_s, sat * (excess + rho_w * pw.g * np.maximum(z_s - height, 0.0)), np.ones(n)
     if spec is None or (spec.water_table is None and spec.table_normal is None):  # the table at its own surface
         origin, extent, cell = pw.grid
         table = column_surface(pts, h / ppc, pw.up, origin, extent, cell) if n else np.zeros(0)
@@ -109,6 +116,17 @@ def body_water(body, pw: PoreWater, mid: int, pts: np.ndarray, h: float, ppc: in
     sat = (height <= table + 1e-9 * h).astype(float)
     hydrostatic = rho_w * g_normal * np.maximum(table - height, 0.0)
     return sat, np.full(n, table), sat * (excess + hydrostatic), np.ones(n)
+
+
+def drawn_surface(spec, pw: PoreWater, pts: np.ndarray) -> np.ndarray:
+    """The height [m] of a body's drawn phreatic surface (schema PhreaticSurfaceSpec, points) above each of
+    ``pts`` (mpm/phreatic_surface.py: a line in 2D, a TIN in 3D)."""
+    points = np.asarray(spec.points, float)
+    if points.shape[1] == 2:
+        return PolylineSurface(points[:, 0], points[:, 1]).elevation(pts[:, :1])
+    origin, extent, cell = pw.grid
+    lattice = tin_lattice(points, origin[:2], origin[:2] + extent[:2], cell)
+    return LatticeSurface(lattice, "points").elevation(pts[:, :2])
 
 
 def buoyant_mass(p_mass, p_vol, p_material, p_sat, p_buoyant, pw: PoreWater) -> np.ndarray:
