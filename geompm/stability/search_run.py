@@ -1,7 +1,7 @@
 """The factor of safety of a case as a library call: what `geompm stability` does, returning its JSON object.
 
     import geompm
-    result = geompm.stability("cases/slope_failure.json", out="stability/slope", sets=["grid.cell_size=0.5"])
+    result = geompm.stability("cases/slope_failure.json", sets=["grid.cell_size=0.5"])
     result["factor_of_safety"], result["bracket"], result["trials"], result["message"]
 
 The object is the one `geompm stability --json` prints and ``stability.json`` holds: ``factor_of_safety``
