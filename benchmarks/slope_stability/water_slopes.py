@@ -4,7 +4,8 @@ method with the same water, at several cell sizes (docs/slope-stability.md, "Wat
     python benchmarks/slope_stability/water_slopes.py [--cell-sizes 1 0.5] [--cases dry line slow4 ...]
         [--workers 2] [--out FILE]
 
-Cases: ``dry``; ``line`` (the curved phreatic line from 6 m at the back to the toe); ``slowL`` (a pond at L m
+Cases: ``dry``; ``line`` (the curved phreatic line from 6 m at the back to the toe, meeting the face near the
+toe); ``deepline`` (the same line kept 1 m below the ground); ``slowL`` (a pond at L m
 with the water in the slope at the pond's level: slow drawdown to L); ``rapidL`` (the pond drawn down to L m
 from the crest with the slope still saturated to its surface: rapid drawdown, drained).  Prints one JSON line
 per run (Bishop's F and circle, geompm's F, bracket, error, trials, wall time) and appends them to --out.
@@ -29,6 +30,8 @@ def water_of(name: str):
         return None, None
     if name == "line":
         return phreatic_line(back=6.0), None
+    if name == "deepline":  # the same line kept 1 m below the ground: no seepage face
+        return phreatic_line(back=6.0, cover=1.0), None
     level = float(name[5:] if name.startswith("rapid") else name[4:])
     level = None if level <= 0.0 else level  # a pond at the toe's level or below: none
     if name.startswith("slow"):

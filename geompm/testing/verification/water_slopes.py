@@ -24,15 +24,16 @@ RHO = GAMMA / 9.81
 RHO_W = 1000.0
 
 
-def phreatic_line(back: float = 8.0, toe: float = 0.0) -> list[list[float]]:
+def phreatic_line(back: float = 8.0, toe: float = 0.0, cover: float = 0.0) -> list[list[float]]:
     """A phreatic line falling from ``back`` [m] at the back wall to ``toe`` [m] at the toe, curved as seepage
     towards a toe drain draws it (Casagrande's basic parabola in shape: z = toe + (back - toe) sqrt(1 - s)
-    over the distance share s from the back to the toe), sampled every metre."""
+    over the distance share s from the back to the toe), sampled every metre, and kept ``cover`` [m] below
+    the ground (0: it meets the face near the toe, where the water seeps out)."""
     xs = np.linspace(0.0, TOE_X, 28)
     s = xs / TOE_X
     zs = toe + (back - toe) * np.sqrt(np.clip(1.0 - s, 0.0, 1.0))
     ground = np.interp(xs, [0.0, CREST_X, TOE_X], [HEIGHT, HEIGHT, 0.0])
-    zs = np.minimum(zs, ground)  # inside the ground: at or below the face
+    zs = np.minimum(zs, ground - cover)  # inside the ground: at or below the face
     return [[float(x), float(z)] for x, z in zip(xs, zs)]
 
 
