@@ -42,8 +42,9 @@ def _water_table_problems(case, loaded) -> list[tuple[str, str]]:
     if not any(g):
         out.append((path, "a water table needs gravity (its pore pressure is rho_w g times the depth below it)"))
     if any(m.pore_water is not None for m in case.materials.values()):
-        out.append((path, "a water table and a saturated material ('pore_water', two-phase) in one case are not "
-                          "supported; give the saturated body its own 'pore_pressure.water_table'"))
+        out.append((path, "a water table or pond and a saturated material ('pore_water', two-phase) in one case are "
+                          "not supported; give the saturated body its own 'pore_pressure' ('water_table', or a drawn "
+                          "'surface'); ponded water on two-phase soil is not modelled yet (docs/pore-water.md, Limits)"))
     if case.solver.backend != "cpu":
         out.append((path, "the water table runs on the CPU backend only; use solver.backend \"cpu\""))
     if spec.normal is not None:

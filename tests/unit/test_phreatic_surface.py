@@ -174,3 +174,25 @@ def test_a_two_phase_body_starts_hydrostatic_below_its_drawn_line():
         assemble(parse_case(case, "."))
     assert any(p == "bodies.0.pore_pressure.surface.points.1" and "leaves the grid's plan" in t
                for p, t in exc.value.problems)
+
+
+def test_a_submerged_layer_in_3d_starts_and_stays_at_its_buoyant_effective_stress():
+    """The pond in 3D (the vertical is z): a 1 x 1 x 1 m layer under a pond at 1.5 m, geostatic, sigma'_zz =
+    (rho_sat - rho_w) g d and at rest after 100 steps (the buoyancy scattered to the 3D stencil)."""
+    c = {"name": "pond3d", "dimension": 3,
+         "grid": {"origin": [0.0, 0.0, 0.0], "extent": [1.0, 1.0, 1.8], "cell_size": 0.2, "shape_function": "linear"},
+         "time": {"end": 0.1, "cfl": 0.4}, "gravity": [0.0, 0.0, -G],
+         "materials": {"soil": {"model": "drucker_prager", "density": RHO, "youngs_modulus": 2e7,
+                                "poisson_ratio": 0.3, "friction_angle": 30.0, "cohesion": 0.0,
+                                "dilation_angle": 0.0}},
+         "bodies": [{"material": "soil", "geometry": {"type": "box", "min": [0, 0, 0], "max": [1, 1, 1]},
+                     "particles_per_cell": 2, "initial_stress": "geostatic"}],
+         "boundaries": [{"type": "wall", "side": "z-", "condition": "fixed"}]
+         + [{"type": "wall", "side": s, "condition": "slip"} for s in ("x-", "x+", "y-", "y+")],
+         "triggers": {"water_table": {"pond": {"times": [0.0], "levels": [1.5]}}}, "outputs": []}
+    sim = Simulation(scene_from_dict(c))
+    st = sim.state
+    assert st.p_stress[:, 2] == pytest.approx(-(RHO - RHO_W) * G * (1.0 - st.p_x[:, 2]), rel=1e-9)
+    for _ in range(100):
+        sim.step(sim.stable_dt())
+    assert float(np.abs(st.p_v).max()) < 1e-12
