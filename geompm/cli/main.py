@@ -69,6 +69,11 @@ def cmd_validate(args) -> int:
         print(f"strength trigger: the strength of {names} divided by F = {points} (linear between, held outside)")
     if scene.water_table is not None:
         print(scene.water_table.describe(scene.material_names))
+    loading = loaded.case.gravity_loading
+    if loading is not None:
+        print(f"gravity loading before the event: drained, local damping {loading.alpha:g}, held at t = 0, until the "
+              f"unbalanced-force ratio is below {loading.tolerance:g} (at most {loading.max_time:g} s), then "
+              "displacements reset")
     viscous_warning(loaded, scene, print)
     stage_warnings(scene, print, loaded)
     return 0
