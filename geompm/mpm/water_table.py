@@ -71,7 +71,7 @@ class WaterTable:
 
     def pressure(self, p_x, p_material, time: float) -> np.ndarray:
         """The pore pressure [Pa] of every particle at ``time``: the table's, raised to the pond's below its
-        level (a buffer reused between calls; ``pond_part`` holds the pond's share after it)."""
+        level (a buffer reused between calls; the pond's share is kept beside it for ``load``)."""
         out, pond = self._buffers(p_x)
         if self.surface is not None:
             self.surface.pressure(p_x, p_material, self.acts, self.height(time), self.gradient, out)
@@ -85,10 +85,6 @@ class WaterTable:
         else:
             pond[:] = 0.0
         return out
-
-    @property
-    def pond_part(self) -> np.ndarray:
-        return self._pond
 
     def load(self, backend, state, time: float) -> None:
         """Hand the backend the pore pressure its next P2G takes out of the effective stress (the excess

@@ -1,4 +1,4 @@
-"""geompm.run, the library call that runs a case as `geompm run` does (docs/python-api.md).
+"""geompm.run, the library call that runs a case as `geompm run` does, and geompm.stability (docs/python-api.md).
 
 The page's examples are run as written (from the repository root, coarsened only by their own overrides),
 and what the Run reports is checked against the files the run wrote: its step count and time against
@@ -41,7 +41,7 @@ def test_the_pages_examples_run_as_written(in_tmp_copy, capsys):
     """Each python block of docs/python-api.md runs without an error, in order, in one namespace."""
     namespace: dict = {}
     blocks = _examples()
-    assert len(blocks) == 3
+    assert len(blocks) == 4
     for code in blocks:
         exec(compile(code, str(PAGE), "exec"), namespace)
     run = namespace["run"]
@@ -49,6 +49,9 @@ def test_the_pages_examples_run_as_written(in_tmp_copy, capsys):
     assert (in_tmp_copy / "runs" / "debris_coarse" / "status.json").is_file()
     out = capsys.readouterr().out
     assert "dam" in out and "particles.pvd" in out
+    result = namespace["result"]  # geompm.stability: a bracket no wider than its tolerance, its trials
+    lo, hi = result["bracket"]
+    assert hi - lo <= 0.1 + 1e-9 and result["message"] == "" and len(result["trials"]) >= 3
 
 
 def test_run_reports_what_the_folder_holds(tmp_path):
