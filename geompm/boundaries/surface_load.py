@@ -45,7 +45,7 @@ from geompm.contract.layout import param_layout
 from geompm.contract.plugin import Params, nonzero_vector
 from geompm.contract.stages import LOAD, GridStage
 from geompm.errors import CaseError
-from geompm.kernels.shape import axis_stencil, support
+from geompm.kernels.shape import point_stencil, support
 
 #: packed parameters: the grid origin [m] and 1/h [1/m], the first node (global index) of the load's
 #: node lattice and its node counts
@@ -106,13 +106,7 @@ def scatter_load(p_x, loaded, p_mass, accel, origin, inv_h, kind, lo, n, forces)
     d = p_x.shape[1]
     for q in range(loaded.shape[0]):
         p = loaded[q]
-        b0, w0, _ = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
-        b1, w1, _ = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
-        b2, w2 = 0, (1.0, 0.0, 0.0, 0.0)
-        s2 = 1
-        if d == 3:
-            b2, w2, _ = axis_stencil((p_x[p, 2] - origin[2]) * inv_h, kind, inv_h)
-            s2 = 4
+        b0, w0, b1, w1, b2, w2, s2 = point_stencil(p_x[p], origin, inv_h, kind)
         for i in range(4):
             for j in range(4):
                 for l in range(s2):

@@ -24,7 +24,7 @@ import numpy as np
 from numba import njit, prange
 
 from geompm.kernels.lattice import bilinear
-from geompm.kernels.shape import axis_stencil
+from geompm.kernels.shape import point_stencil
 
 
 @njit(parallel=True, cache=True)
@@ -82,13 +82,7 @@ def scatter_buoyancy(p_x, p_pond, p_vol0, weight, up, origin, inv_h, kind, lo, n
         if p_pond[p] <= 0.0:
             continue
         f = scale * weight * p_vol0[p]
-        b0, w0, _ = axis_stencil((p_x[p, 0] - origin[0]) * inv_h, kind, inv_h)
-        b1, w1, _ = axis_stencil((p_x[p, 1] - origin[1]) * inv_h, kind, inv_h)
-        b2, w2 = 0, (1.0, 0.0, 0.0, 0.0)
-        s2 = 1
-        if d == 3:
-            b2, w2, _ = axis_stencil((p_x[p, 2] - origin[2]) * inv_h, kind, inv_h)
-            s2 = 4
+        b0, w0, b1, w1, b2, w2, s2 = point_stencil(p_x[p], origin, inv_h, kind)
         for i in range(4):
             i0 = b0 + i - lo[0]
             if w0[i] == 0.0 or i0 < 0 or i0 >= nloc[0]:

@@ -63,3 +63,17 @@ def axis_weights(xi, kind, inv_h, w, dw):
         w[k] = wt[k]
         dw[k] = dwt[k]
     return base
+
+
+@njit(cache=True, inline="always")
+def point_stencil(x, origin, inv_h, kind):
+    """The stencil of a point x (2 or 3 coordinates) for a scatter of one value per node: (b0, w0, b1, w1, b2,
+    w2, n2), the bases and weights along each axis (axis_stencil) and the node count along z (1 in 2D, with
+    w2 = (1, 0, 0, 0) and b2 = 0)."""
+    b0, w0, _ = axis_stencil((x[0] - origin[0]) * inv_h, kind, inv_h)
+    b1, w1, _ = axis_stencil((x[1] - origin[1]) * inv_h, kind, inv_h)
+    if x.shape[0] == 3:
+        b2, w2, _ = axis_stencil((x[2] - origin[2]) * inv_h, kind, inv_h)
+        return b0, w0, b1, w1, b2, w2, 4
+    return b0, w0, b1, w1, 0, (1.0, 0.0, 0.0, 0.0), 1
+
