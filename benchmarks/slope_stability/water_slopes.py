@@ -7,7 +7,8 @@ method with the same water, at several cell sizes (docs/slope-stability.md, "Wat
 Cases: ``dry``; ``line`` (the curved phreatic line from 6 m at the back to the toe, meeting the face near the
 toe); ``deepline`` (the same line kept 1 m below the ground); ``slowL`` (a pond at L m
 with the water in the slope at the pond's level: slow drawdown to L); ``rapidL`` (the pond drawn down to L m
-from the crest with the slope still saturated to its surface: rapid drawdown, drained).  Prints one JSON line
+from the crest with the slope still saturated to its surface: rapid drawdown, drained); ``seepH`` (the steady seepage state from a reservoir at H m behind the slope, its
+face free to seep: Bishop with the head the run solves at each cell size).  Prints one JSON line
 per run (Bishop's F and circle, geompm's F, bracket, error, trials, wall time) and appends them to --out.
 """
 
@@ -32,6 +33,8 @@ def water_of(name: str):
         return phreatic_line(back=6.0), None
     if name == "deepline":  # the same line kept 1 m below the ground: no seepage face
         return phreatic_line(back=6.0, cover=1.0), None
+    if name.startswith("seep"):
+        return None, None
     level = float(name[5:] if name.startswith("rapid") else name[4:])
     level = None if level <= 0.0 else level  # a pond at the toe's level or below: none
     if name.startswith("slow"):
@@ -52,10 +55,19 @@ def main() -> int:
         for h in a.cell_sizes:
             for name in a.cases:
                 line, pond = water_of(name)
-                ref, circle = bishop_with_line(line, pond=pond)
                 pond_spec = None if pond is None else {"times": [0.0], "levels": [pond]}
+                back = float(name[4:]) if name.startswith("seep") else None
+                raw = slope_case(h, line=line, pond=pond_spec, back_head=back)
+                head = None
+                if back is not None:  # Bishop with the state the run solves at this cell size
+                    from geompm.api import scene_from_dict
+                    from geompm.kernels.lattice import bilinear
+
+                    nodal = scene_from_dict(raw).water_table.surface.head
+                    head = lambda x, y, v=nodal, hh=h: float(bilinear(v, 0.0, 0.0, hh, hh, x, y))  # noqa: E731
+                ref, circle = bishop_with_line(line, pond=pond, head=head)
                 case = Path(work) / f"{name}_{h:g}.json"
-                case.write_text(json.dumps(slope_case(h, line=line, pond=pond_spec)))
+                case.write_text(json.dumps(raw))
                 t0 = time.perf_counter()
                 res = geompm.stability(case, out=Path(work) / f"stab_{name}_{h:g}", workers=a.workers, threads=1)
                 f = res["factor_of_safety"]

@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from geompm.kernels.lattice import bilinear
+from geompm.kernels.lattice import bilinear, trilinear
 from geompm.kernels.shape import point_stencil
 
 
@@ -130,3 +130,20 @@ def pore_work(p_table, p_vol, p_vol0, p_x, p_x0, normal, gradient):
         uplift = gradient * p_vol[p] * rise if (rise > 0.0 and p_table[p] > 0.0) else 0.0
         w += p_table[p] * max(p_vol[p] - p_vol0[p], 0.0) + uplift
     return w
+
+
+@njit(parallel=True, cache=True)
+def head_pressure_2d(p_x, p_material, acts, head, origin, h, weight, out):
+    """out[p] = weight * max(H(x) - y, 0) for a particle of a soil with acts = 1: H the steady seepage's head on
+    the grid's nodes (mpm/seepage.py), bilinear; weight = rho_w |g| [Pa/m]."""
+    for p in prange(p_x.shape[0]):
+        depth = bilinear(head, origin[0], origin[1], h, h, p_x[p, 0], p_x[p, 1]) - p_x[p, 1]
+        out[p] = weight * depth * acts[p_material[p]] if depth > 0.0 else 0.0
+
+
+@njit(parallel=True, cache=True)
+def head_pressure_3d(p_x, p_material, acts, head, origin, h, weight, out):
+    """head_pressure_2d in 3D: H trilinear, z the vertical."""
+    for p in prange(p_x.shape[0]):
+        depth = trilinear(head, origin[0], origin[1], origin[2], h, p_x[p, 0], p_x[p, 1], p_x[p, 2]) - p_x[p, 2]
+        out[p] = weight * depth * acts[p_material[p]] if depth > 0.0 else 0.0

@@ -138,7 +138,8 @@ class WaterTable:
         values = [] if self.heights is None else self.heights
         points = ", ".join(f"{z:g} m at {t:g} s" for t, z in zip(self.times, values))
         if self.surface is not None:
-            what = f"{self.surface.describe()}, raised by {points} (linear between, held outside)"
+            rises = "" if not np.any(values) else f", raised by {points} (linear between, held outside)"
+            what = f"{self.surface.describe()}{rises}"
         elif self.normal is not None:
             what = (f"{points} along n = ({', '.join(f'{v:.3g}' for v in self.normal)}) (linear between, held "
                     f"outside)")

@@ -418,6 +418,23 @@ class PondSpec(Strict):
         return self
 
 
+class SideHeadSpec(Strict):
+    """A hydraulic head held on a grid side (a reservoir or river against the soil there)."""
+
+    side: Literal["x-", "x+", "y-", "y+", "z-", "z+"] = Field(description="Face of the grid")
+    head: float = Field(description="The head H [m] (the water level, in the vertical coordinate) held at that "
+                                    "side's soil nodes at or below it; above it the side is a seepage face")
+
+
+class SeepageSpec(Strict):
+    """A steady seepage state solved once on the grid at the start (mpm/seepage.py)."""
+
+    heads: list[SideHeadSpec] = Field(default_factory=list, max_length=6,
+                                      description="Heads held on grid sides; every other side is impermeable")
+    unsaturated: float = Field(1.0e-3, gt=0.0, le=1.0, description="k_r [-]: the conductivity of the soil above the "
+                               "phreatic surface over the saturated one (a non-linear permeability: Bathe & Khoshgoftaar 1979)")
+
+
 class WaterTableSpec(Strict):
     """A phreatic surface that sets the pore pressure of drained soil: a plane, p = rho_w (-g . n) (z_wt(t) -
     x . n) below it, or a surface from data, and free water ponded outside the soil (docs/slope-stability.md,
@@ -438,14 +455,24 @@ class WaterTableSpec(Strict):
     pond: PondSpec | None = Field(
         None, description="Free water outside the soil: its pressure on every face below its level and in the "
                           "soil's pores below it (the water in the soil stands at least at the pond's level)")
+    seepage: SeepageSpec | None = Field(
+        None, description="In place of 'heights' or 'surface': the steady seepage state through the soil with heads "
+                          "on grid sides and the pond on its faces, solved once at the start (docs/slope-stability.md)")
     fluid_density: float = Field(1000.0, gt=0.0, description="rho_w [kg/m3] of the pore water")
     materials: list[str] | None = Field(None, description="The soils under the table's pore pressure (default "
                                                            "every dry soil: not a fluid, no 'pore_water')")
 
     @model_validator(mode="after")
     def _schedule(self):
-        if self.surface is None and self.heights is None and self.pond is None:
-            raise ValueError("give 'heights' (a plane), a 'surface' or a 'pond'")
+        if self.seepage is not None:
+            if self.surface is not None or self.heights is not None or self.normal is not None:
+                raise ValueError("a 'seepage' state is solved from its heads: remove 'heights', 'surface' and 'normal'")
+            if len(self.times) != 1:
+                raise ValueError("a 'seepage' state is solved once, at the start: give one time")
+            if not self.seepage.heads and self.pond is None:
+                raise ValueError("a 'seepage' state needs a head somewhere: give 'seepage.heads' or a 'pond'")
+        if self.surface is None and self.heights is None and self.pond is None and self.seepage is None:
+            raise ValueError("give 'heights' (a plane), a 'surface', a 'seepage' state or a 'pond'")
         if self.surface is not None and self.normal is not None:
             raise ValueError("a 'surface' is hydrostatic along the vertical: remove 'normal'")
         if self.heights is not None:

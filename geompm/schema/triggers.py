@@ -76,13 +76,22 @@ def _water_table_problems(case, loaded) -> list[tuple[str, str]]:
 def _surface_problems(case, spec, path: str) -> list[tuple[str, str]]:
     """A phreatic surface from data and a pond: vertical gravity, points in the grid's plan, levels in the
     grid."""
-    if spec.surface is None and spec.pond is None:
+    if spec.surface is None and spec.pond is None and spec.seepage is None:
         return []
     d = case.dimension
     hi = [a + b for a, b in zip(case.grid.origin, case.grid.extent)]
-    out = vertical_gravity_problems(case, f"{path}.{'surface' if spec.surface is not None else 'pond'}")
+    what = "surface" if spec.surface is not None else "seepage" if spec.seepage is not None else "pond"
+    out = vertical_gravity_problems(case, f"{path}.{what}")
     if out:
         return out
+    if spec.seepage is not None:
+        for i, held in enumerate(spec.seepage.heads):
+            where = f"{path}.seepage.heads.{i}"
+            if "xyz".index(held.side[0]) >= d:
+                out.append((f"{where}.side", f"a {d}D grid has no side {held.side}"))
+            elif held.head > hi[-1]:
+                out.append((f"{where}.head", f"{held.head:g} m is above the grid's top ({hi[-1]:g} m): raise "
+                                             "grid.extent or lower the head"))
     if spec.pond is not None:
         for i, z in enumerate(spec.pond.levels):
             if z > hi[-1]:

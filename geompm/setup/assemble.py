@@ -19,6 +19,7 @@ from geompm.setup.bodies import overlap_problems, seed_body
 from geompm.files.dem import read_dem
 from geompm.mpm.phreatic_surface import (LatticeSurface, PolylineSurface, lattice_points, table_warnings,
                                         tin_lattice)
+from geompm.mpm.seepage import SeepageSurface, solve_seepage
 from geompm.mpm.water_table import WaterTable
 from geompm.schema.triggers import water_table_materials
 from geompm.kernels.overburden import column_overburden
@@ -197,7 +198,7 @@ def assemble(loaded: LoadedCase) -> Scene:
     p_material = np.concatenate(mids)
     extra = _joined(extras, [len(x) for x in xs], scheme.body_width)
     weight = scheme.overburden_mass(p_mass, p_vol, p_material, extra)
-    table = _water_table(case, loaded, names, gravity, grid)
+    table = _water_table(case, loaded, names, gravity, grid, p_x, p_material)
     pore = None
     if table is not None:
         pore = table.excess(p_x, p_material, 0.0).copy()
@@ -302,9 +303,10 @@ def _strength_trigger(case, materials: list, names: list[str]) -> tuple | None:
     return tuple(spec.times), tuple(spec.factors), tuple(names.index(n) for n in wanted)
 
 
-def _water_table(case, loaded, names: list[str], gravity, grid) -> WaterTable | None:
+def _water_table(case, loaded, names: list[str], gravity, grid, p_x, p_material) -> WaterTable | None:
     """The water table of ``triggers.water_table`` (schema/triggers.py checked it), or None: a plane, a
-    surface from data (mpm/phreatic_surface.py) or a pond alone, with the pond if any."""
+    surface from data (mpm/phreatic_surface.py), a steady seepage state solved through the particles of its
+    soils (mpm/seepage.py) or a pond alone, with the pond if any."""
     spec = case.triggers.water_table if case.triggers is not None else None
     if spec is None:
         return None
@@ -314,6 +316,15 @@ def _water_table(case, loaded, names: list[str], gravity, grid) -> WaterTable | 
     up = len(gravity) - 1
     pond = None if spec.pond is None else (tuple(spec.pond.times), tuple(spec.pond.levels))
     common = dict(pond=pond, up=up, weight=spec.fluid_density * g_abs, rho_w=spec.fluid_density)
+    if spec.seepage is not None:
+        surface = seepage_state(spec, grid, p_x[acts[p_material] > 0.0])
+        r = surface.report
+        if not r["settled"]:
+            loaded.warnings.append(("triggers.water_table.seepage", f"the seepage state did not settle in "
+                                    f"{r['iterations']} iterations (its head still moved {r['change']:.2g} cell): "
+                                    "the phreatic surface is approximate; a finer or coarser grid may settle"))
+        return WaterTable(tuple(spec.times), (0.0,), None, spec.fluid_density * g_abs, acts, surface=surface,
+                          **common)
     if spec.surface is not None or spec.heights is None:
         surface = None if spec.surface is None else phreatic_surface(spec.surface, case, grid, loaded.base_dir)
         rises = tuple(spec.heights) if spec.heights is not None else (0.0,)
@@ -323,6 +334,18 @@ def _water_table(case, loaded, names: list[str], gravity, grid) -> WaterTable | 
     normal = normal / np.linalg.norm(normal)
     return WaterTable(tuple(spec.times), tuple(spec.heights), normal, -spec.fluid_density * float(gravity @ normal),
                       acts, **common)
+
+
+def seepage_state(spec, grid, points) -> SeepageSurface:
+    """The steady seepage state of ``spec`` (schema WaterTableSpec with ``seepage``) through the cells that hold
+    ``points`` (the soils' particles), its pond at t = 0."""
+    heads = [("xyz".index(s.side[0]), s.side[1] == "+", s.head) for s in spec.seepage.heads]
+    pond = None if spec.pond is None else spec.pond.levels[0]
+    try:
+        head, report = solve_seepage(points, grid.origin, grid.h, grid.ncells, heads, pond, spec.seepage.unsaturated)
+    except ValueError as exc:
+        raise CaseError([("triggers.water_table.seepage", str(exc))]) from None
+    return SeepageSurface(head, grid.origin, grid.h, report)
 
 
 #: the most lattice points a 3D phreatic surface from points is sampled on (8 bytes each)

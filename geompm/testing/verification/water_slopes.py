@@ -38,9 +38,10 @@ def phreatic_line(back: float = 8.0, toe: float = 0.0, cover: float = 0.0) -> li
 
 
 def slope_case(cell_size: float, end: float = 3.0, line=None, pond=None, cohesion: float = 5.0e3,
-               friction: float = 30.0) -> dict:
+               friction: float = 30.0, back_head: float | None = None) -> dict:
     """The slope, drained, under the phreatic ``line`` (points [[x, z], ...]; None: dry) and a ``pond``
-    ({"times": [...], "levels": [...]}; None: none)."""
+    ({"times": [...], "levels": [...]}; None: none), or in the steady seepage state from a head ``back_head``
+    [m] held on its back (the x- side: a reservoir behind it) with its face free to seep."""
     case = {
         "name": "water_slope",
         "description": "10 m slope at 1.5:1, c' 5 kPa, phi' 30 deg, on a rigid base; drained under a phreatic "
@@ -62,6 +63,8 @@ def slope_case(cell_size: float, end: float = 3.0, line=None, pond=None, cohesio
         "outputs": [{"writer": "series", "interval": end / 40}],
     }
     water = {}
+    if back_head is not None:
+        water["seepage"] = {"heads": [{"side": "x-", "head": back_head}]}
     if line is not None:
         water["surface"] = {"points": line}
     if pond is not None:
@@ -92,7 +95,7 @@ def two_phase_slope_case(cell_size: float, end: float = 0.5, table: float | None
 
 
 def bishop_with_line(line=None, cohesion: float = 5.0e3, friction: float = 30.0, pond: float | None = None,
-                     centres=None, radii=None):
+                     centres=None, radii=None, head=None):
     """(F, circle) of Bishop's simplified method over circles that stay above the base, under the phreatic
     ``line`` (points [[x, z], ...]) and a ``pond`` at level z_p [m]: the pore pressure on the slip surface
     u = gamma_w (max(z_line(x), z_p) - z_arc), and the pond's water on the submerged face.  The pond is taken
@@ -100,7 +103,7 @@ def bishop_with_line(line=None, cohesion: float = 5.0e3, friction: float = 30.0,
     same equilibrium as the slices' total weight with the pond's water column on them and the full u (the
     hydrostatic pond pressure over the sliding mass's closed boundary is its buoyancy; per slice, the
     vertical balance W + W_water - u b = W' - u_excess b), and what the run itself does
-    (mpm/water_table.py)."""
+    (mpm/water_table.py).  ``head(x, y)``: a solved head field [m] in place of the line (no pond)."""
     ground = surface_from_points([-100.0, CREST_X, TOE_X, 200.0], [HEIGHT, HEIGHT, 0.0, 0.0])
     pts = None if line is None else np.asarray(line, float)
     g_w = RHO_W * 9.81
@@ -110,8 +113,10 @@ def bishop_with_line(line=None, cohesion: float = 5.0e3, friction: float = 30.0,
         return -np.inf if pts is None else float(np.interp(x, pts[:, 0], pts[:, 1]))
 
     def pore(x, y):
-        head = max(table(x), z_p)
-        return g_w * (max(head - y, 0.0) - max(z_p - y, 0.0))
+        if head is not None:  # a solved head field H(x, y) (a steady seepage state)
+            return g_w * max(head(x, y) - y, 0.0)
+        level = max(table(x), z_p)
+        return g_w * (max(level - y, 0.0) - max(z_p - y, 0.0))
 
     def column(x, arc):
         top = ground(x)
