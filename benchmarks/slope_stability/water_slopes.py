@@ -49,6 +49,8 @@ def main() -> int:
     ap.add_argument("--cases", nargs="+", default=["dry", "line", "slow2", "slow4", "slow8", "rapid0", "rapid4",
                                                    "rapid8"])
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--dilation", type=float, default=None,
+                    help="the soil's dilation angle [deg] (default the case's 0; 30 = associated flow)")
     ap.add_argument("--out", default=None)
     a = ap.parse_args()
     with tempfile.TemporaryDirectory() as work:
@@ -58,6 +60,8 @@ def main() -> int:
                 pond_spec = None if pond is None else {"times": [0.0], "levels": [pond]}
                 back = float(name[4:]) if name.startswith("seep") else None
                 raw = slope_case(h, line=line, pond=pond_spec, back_head=back)
+                if a.dilation is not None:
+                    raw["materials"]["soil"]["dilation_angle"] = a.dilation
                 head = None
                 if back is not None:  # Bishop with the state the run solves at this cell size
                     from geompm.api import scene_from_dict
@@ -71,7 +75,7 @@ def main() -> int:
                 t0 = time.perf_counter()
                 res = geompm.stability(case, out=Path(work) / f"stab_{name}_{h:g}", workers=a.workers, threads=1)
                 f = res["factor_of_safety"]
-                row = {"case": name, "cell_size": h, "bishop": ref, "bishop_circle": circle, "factor_of_safety": f,
+                row = {"case": name if a.dilation is None else f"{name}_psi{a.dilation:g}", "cell_size": h, "bishop": ref, "bishop_circle": circle, "factor_of_safety": f,
                        "bracket": res["bracket"], "error": None if f is None else f / ref - 1.0,
                        "trials": len(res["trials"]), "message": res["message"],
                        "wall_seconds": time.perf_counter() - t0}
