@@ -201,3 +201,19 @@ class SeepageSurface:
         r = self.report
         return (f"a steady seepage state ({r['unknowns']} unknowns, {r['iterations']} iterations, "
                 f"{r['seepage_nodes']} seepage-face nodes, {r['saturated_cells']} of {r['cells']} cells saturated)")
+
+
+def head_at(nodal, origin, h, pts) -> np.ndarray:
+    """The head [m] at the points ``pts`` (n, d), multilinear between the nodes (numpy; set-up only)."""
+    pts = np.asarray(pts, float)
+    d = pts.shape[1]
+    s = (pts - origin) / h
+    i = np.clip(np.floor(s).astype(np.int64), 0, np.asarray(nodal.shape) - 2)
+    f = np.clip(s - i, 0.0, 1.0)
+    out = np.zeros(len(pts))
+    for corner in itertools.product((0, 1), repeat=d):
+        w = np.ones(len(pts))
+        for a, c in enumerate(corner):
+            w *= f[:, a] if c else 1.0 - f[:, a]
+        out += w * nodal[tuple((i[:, a] + corner[a]) for a in range(d))]
+    return out

@@ -314,6 +314,23 @@ class PhreaticSurfaceSpec(Strict):
         return self
 
 
+class SideHeadSpec(Strict):
+    """A hydraulic head held on a grid side (a reservoir or river against the soil there)."""
+
+    side: Literal["x-", "x+", "y-", "y+", "z-", "z+"] = Field(description="Face of the grid")
+    head: float = Field(description="The head H [m] (the water level, in the vertical coordinate) held at that "
+                                    "side's soil nodes at or below it; above it the side is a seepage face")
+
+
+class SeepageSpec(Strict):
+    """A steady seepage state solved once on the grid at the start (mpm/seepage.py)."""
+
+    heads: list[SideHeadSpec] = Field(default_factory=list, max_length=6,
+                                      description="Heads held on grid sides; every other side is impermeable")
+    unsaturated: float = Field(1.0e-3, gt=0.0, le=1.0, description="k_r [-]: the conductivity of the soil above the "
+                               "phreatic surface over the saturated one (a non-linear permeability: Bathe & Khoshgoftaar 1979)")
+
+
 class PorePressureSpec(Strict):
     """The initial pore pressure of a body of saturated material: hydrostatic below the water table,
     plus a uniform excess."""
@@ -331,6 +348,10 @@ class PorePressureSpec(Strict):
     surface: PhreaticSurfaceSpec | None = Field(
         None, description="A phreatic surface from data ('points': a line [[x, z], ...] in 2D, [[x, y, z], ...] in "
         "3D): hydrostatic along the vertical below it, dry above (in place of 'water_table')")
+    seepage: SeepageSpec | None = Field(
+        None, description="The steady seepage state through the body with heads on grid sides, solved once at the "
+        "start on the grid (docs/slope-stability.md): p = rho_w |g| (H - z) where H > z, dry above (in place of "
+        "'water_table' and 'surface')")
     hydrostatic: bool = Field(
         True, description="false: the body is saturated throughout at the uniform 'excess' only, its water carrying "
         "no weight at t = 0 (a bed wetted to saturation from above, tensiometers reading p near 0); then "
@@ -340,12 +361,15 @@ class PorePressureSpec(Strict):
     def _normal_not_zero(self):
         if self.table_normal is not None and sum(v * v for v in self.table_normal) < 1e-12:
             raise ValueError("'table_normal' must not be zero")
-        if self.surface is not None and (self.water_table is not None or self.table_normal is not None):
-            raise ValueError("give a 'surface' or a 'water_table' (with 'table_normal'), not both")
+        given = [k for k in ("water_table", "surface", "seepage") if getattr(self, k) is not None]
+        if len(given) > 1 or (self.table_normal is not None and given and given != ["water_table"]):
+            raise ValueError("give one of 'water_table' (with 'table_normal'), 'surface' and 'seepage'")
+        if self.seepage is not None and not self.seepage.heads:
+            raise ValueError("a body's 'seepage' state needs a head: give 'seepage.heads'")
         if self.surface is not None and self.surface.raster is not None:
             raise ValueError("a body's phreatic 'surface' takes 'points' (a raster is the water table trigger's)")
         if not self.hydrostatic and (self.water_table is not None or self.table_normal is not None
-                                     or self.surface is not None):
+                                     or self.surface is not None or self.seepage is not None):
             raise ValueError("'hydrostatic': false saturates the whole body at the uniform 'excess'; remove "
                              "'water_table' and 'table_normal' (or set 'hydrostatic' true)")
         return self
@@ -416,23 +440,6 @@ class PondSpec(Strict):
     def _schedule(self):
         check_schedule(self.times, self.levels, "levels", "level")
         return self
-
-
-class SideHeadSpec(Strict):
-    """A hydraulic head held on a grid side (a reservoir or river against the soil there)."""
-
-    side: Literal["x-", "x+", "y-", "y+", "z-", "z+"] = Field(description="Face of the grid")
-    head: float = Field(description="The head H [m] (the water level, in the vertical coordinate) held at that "
-                                    "side's soil nodes at or below it; above it the side is a seepage face")
-
-
-class SeepageSpec(Strict):
-    """A steady seepage state solved once on the grid at the start (mpm/seepage.py)."""
-
-    heads: list[SideHeadSpec] = Field(default_factory=list, max_length=6,
-                                      description="Heads held on grid sides; every other side is impermeable")
-    unsaturated: float = Field(1.0e-3, gt=0.0, le=1.0, description="k_r [-]: the conductivity of the soil above the "
-                               "phreatic surface over the saturated one (a non-linear permeability: Bathe & Khoshgoftaar 1979)")
 
 
 class WaterTableSpec(Strict):

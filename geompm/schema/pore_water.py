@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from geompm.schema.triggers import surface_points_problems, vertical_gravity_problems
+from geompm.schema.triggers import seepage_problems, surface_points_problems, vertical_gravity_problems
 
 
 
@@ -58,6 +58,9 @@ def pore_water_problems(case, loaded) -> list[tuple[str, str]]:
             out.append((path, f"material '{body.material}' has no 'pore_water': add it to the material or "
                               "remove pore_pressure"))
             continue
+        if spec.seepage is not None:
+            where = f"{path}.seepage"
+            out += vertical_gravity_problems(case, where) or seepage_problems(case, spec.seepage, where)
         if spec.surface is not None:
             where = f"{path}.surface"
             out += vertical_gravity_problems(case, where) or surface_points_problems(case, spec.surface.points,

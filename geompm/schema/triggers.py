@@ -85,13 +85,7 @@ def _surface_problems(case, spec, path: str) -> list[tuple[str, str]]:
     if out:
         return out
     if spec.seepage is not None:
-        for i, held in enumerate(spec.seepage.heads):
-            where = f"{path}.seepage.heads.{i}"
-            if "xyz".index(held.side[0]) >= d:
-                out.append((f"{where}.side", f"a {d}D grid has no side {held.side}"))
-            elif held.head > hi[-1]:
-                out.append((f"{where}.head", f"{held.head:g} m is above the grid's top ({hi[-1]:g} m): raise "
-                                             "grid.extent or lower the head"))
+        out += seepage_problems(case, spec.seepage, f"{path}.seepage")
     if spec.pond is not None:
         for i, z in enumerate(spec.pond.levels):
             if z > hi[-1]:
@@ -105,6 +99,21 @@ def _surface_problems(case, spec, path: str) -> list[tuple[str, str]]:
         return out
     rises = spec.heights if spec.heights is not None else [0.0]
     return out + surface_points_problems(case, srf.points, f"{path}.surface.points", max(rises))
+
+
+def seepage_problems(case, seepage, path: str) -> list[tuple[str, str]]:
+    """A seepage state's heads: each on a side the grid has, none above the grid's top."""
+    d = case.dimension
+    top = case.grid.origin[-1] + case.grid.extent[-1]
+    out = []
+    for i, held in enumerate(seepage.heads):
+        where = f"{path}.heads.{i}"
+        if "xyz".index(held.side[0]) >= d:
+            out.append((f"{where}.side", f"a {d}D grid has no side {held.side}"))
+        elif held.head > top:
+            out.append((f"{where}.head", f"{held.head:g} m is above the grid's top ({top:g} m): raise grid.extent "
+                                         "or lower the head"))
+    return out
 
 
 def vertical_gravity_problems(case, where: str) -> list[tuple[str, str]]:

@@ -110,3 +110,27 @@ def test_contradictory_seepage_input_is_refused(water, words):
     with pytest.raises(CaseError) as exc:
         parse_case(_dam(**water), ".")
     assert any("triggers.water_table" in p and words in t for p, t in exc.value.problems), exc.value.problems
+
+
+def test_a_two_phase_body_starts_in_the_seepage_state():
+    """bodies.N.pore_pressure.seepage: a saturated body's initial pore pressure is the solved state's, the same
+    as the drained trigger's on the same particles; particles above the phreatic surface start dry; a side the
+    grid does not have is refused."""
+    heads = [{"side": "x-", "head": 3.0}, {"side": "x+", "head": 1.0}]
+    drained = scene_from_dict(_dam(seepage={"heads": heads}))
+    expected = drained.water_table.pressure(drained.state.p_x, drained.state.p_material, 0.0).copy()
+    case = _dam()
+    del case["triggers"]
+    case["materials"]["soil"]["pore_water"] = {"porosity": 0.4, "hydraulic_conductivity": 1e-5,
+                                               "fluid": {"density": RHO_W, "bulk_modulus": 2e7, "viscosity": 1e-3}}
+    case["solver"] = {"transfer": "pic", "update": "saturated"}
+    case["bodies"][0]["pore_pressure"] = {"seepage": {"heads": heads}}
+    st = scene_from_dict(case).state
+    order = np.lexsort((st.p_x[:, 1], st.p_x[:, 0]))
+    mine = np.lexsort((drained.state.p_x[:, 1], drained.state.p_x[:, 0]))
+    assert st.p_pore[order] == pytest.approx(expected[mine], rel=1e-9, abs=1e-6)
+    assert 0.0 < st.p_sat.mean() < 1.0 and not st.p_pore[st.p_sat == 0.0].any()
+    case["bodies"][0]["pore_pressure"]["seepage"]["heads"][0]["side"] = "z-"
+    with pytest.raises(CaseError) as exc:
+        assemble(parse_case(case, "."))
+    assert any(p == "bodies.0.pore_pressure.seepage.heads.0.side" for p, _ in exc.value.problems)

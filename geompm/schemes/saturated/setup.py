@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from geompm.mpm.phreatic_surface import LatticeSurface, PolylineSurface, tin_lattice
+from geompm.mpm.seepage import head_at, solve_seepage
 from geompm.schemes.saturated.fields import PoreWater
 from geompm.schemes.saturated.kernels import WALL, WATER
 from geompm.schemes.saturated.surface import column_surface
@@ -96,6 +97,11 @@ def body_water(body, pw: PoreWater, mid: int, pts: np.ndarray, h: float, ppc: in
         return np.ones(n), np.full(n, top), np.full(n, excess), np.zeros(n)
     rho_w = pw.table[mid, WATER.rho_w]
     excess = 0.0 if spec is None else spec.excess
+    if spec is not None and spec.seepage is not None:  # the steady seepage state through the body
+        head = seepage_head(spec.seepage, pw, pts)
+        height = pts @ pw.up
+        sat = (head >= height - 1e-9 * h).astype(float)
+        return sat, head, sat * (excess + rho_w * pw.g * np.maximum(head - height, 0.0)), np.ones(n)
     if spec is not None and spec.surface is not None:  # a drawn phreatic surface, hydrostatic along the vertical
         z_s = drawn_surface(spec.surface, pw, pts)
         height = pts @ pw.up
@@ -127,6 +133,16 @@ def drawn_surface(spec, pw: PoreWater, pts: np.ndarray) -> np.ndarray:
     origin, extent, cell = pw.grid
     lattice = tin_lattice(points, origin[:2], origin[:2] + extent[:2], cell)
     return LatticeSurface(lattice, "points").elevation(pts[:, :2])
+
+
+def seepage_head(spec, pw: PoreWater, pts: np.ndarray) -> np.ndarray:
+    """The head [m] of the steady seepage (schema SeepageSpec) through a body's particles ``pts``, at each of
+    them (mpm/seepage.py; the grid's own cells)."""
+    origin, extent, cell = pw.grid
+    ncells = np.maximum(np.round(extent / cell).astype(np.int64), 1)
+    heads = [("xyz".index(s.side[0]), s.side[1] == "+", s.head) for s in spec.heads]
+    nodal, _ = solve_seepage(pts, origin, cell, ncells, heads, None, spec.unsaturated)
+    return head_at(nodal, origin, cell, pts)
 
 
 def buoyant_mass(p_mass, p_vol, p_material, p_sat, p_buoyant, pw: PoreWater) -> np.ndarray:
