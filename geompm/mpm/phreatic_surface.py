@@ -30,6 +30,9 @@ LATTICE_CELLS = 0.25
 class PolylineSurface:
     """z_s(x) through ``xs`` (increasing) and ``zs`` [m], level beyond the ends."""
 
+    #: a drawn surface: it may be drawn above the ground by mistake (table_warnings checks it)
+    drawn = True
+
     def __init__(self, xs, zs):
         self.xs = np.ascontiguousarray(xs, float)
         self.zs = np.ascontiguousarray(zs, float)
@@ -38,7 +41,7 @@ class PolylineSurface:
         """z_s at the plan points ``plan`` (n, 1) [m]."""
         return np.interp(plan[:, 0], self.xs, self.zs)
 
-    def pressure(self, p_x, p_material, acts, rise, gradient, out) -> None:
+    def pressure(self, p_x, p_material, acts, rise, gradient, out, time: float = 0.0) -> None:
         polyline_pressure(p_x, p_material, acts, self.xs.astype(p_x.dtype), self.zs.astype(p_x.dtype),
                           rise, gradient, out)
 
@@ -60,6 +63,8 @@ class Lattice:
 class LatticeSurface:
     """z_s(x, y) bilinear on a lattice (kernels/lattice.bilinear)."""
 
+    drawn = True
+
     def __init__(self, dem, origin: str):
         self.dem = Lattice(np.ascontiguousarray(dem.z, float), float(dem.x0), float(dem.y0), float(dem.dx),
                            float(dem.dy))
@@ -70,7 +75,7 @@ class LatticeSurface:
         return lattice_heights(d.z, d.x0, d.y0, d.dx, d.dy, np.ascontiguousarray(plan[:, 0], float),
                            np.ascontiguousarray(plan[:, 1], float))
 
-    def pressure(self, p_x, p_material, acts, rise, gradient, out) -> None:
+    def pressure(self, p_x, p_material, acts, rise, gradient, out, time: float = 0.0) -> None:
         d = self.dem
         lattice_pressure(p_x, p_material, acts, d.z.astype(p_x.dtype), d.x0, d.y0, d.dx, d.dy, rise, gradient, out)
 
@@ -112,12 +117,15 @@ def table_warnings(table, p_x, p_material, h) -> list[tuple[str, str]]:
     acted = table.acts[p_material] > 0.0
     if not acted.any():
         return []
+    solved = table.surface is not None and not table.surface.drawn  # a seepage state meets the faces itself
     x = p_x[acted]
     dim = x.shape[1]
     if table.pond is not None and float(np.max(table.pond[1])) <= float(x[:, -1].min()):
         raise CaseError([("triggers.water_table.pond.levels", f"the pond never reaches the soil (its highest level "
                           f"{float(np.max(table.pond[1])):g} m, the soil's lowest particle at {float(x[:, -1].min()):g} m): "
                           "there is no face below it to press on; raise the levels or remove 'pond'")])
+    if solved:
+        return []
     cols = np.floor(x[:, :-1] / h).astype(np.int64)
     keys, inv = np.unique(cols, axis=0, return_inverse=True)
     top = np.full(len(keys), -np.inf)

@@ -25,6 +25,8 @@ assembled with scipy.sparse, solved by scipy's sparse LU or pyamg's smoothed agg
   Bathe & Khoshgoftaar 1979, which needs no mesh iteration) until the seepage faces stay and the head changes
   by less than 1e-4 cell (the report says whether it did: `settled`).
 
+Heads that rise or fall in time (a reservoir filling) solve the state again whenever one has moved by a tenth
+of a cell (SeepageSurface): a sequence of steady states, the drained soil's pore pressure following at once.
 The head is kept on the grid's nodes (outside the soil a node's own elevation, p = 0 there) and interpolated
 multilinearly at each particle as it moves (kernels/lattice.py); beyond the grid the edge values hold.
 Verified against the Dupuit discharge of a rectangular dam, q = k (h1^2 - h2^2) / (2 L), which holds exactly for the discharge (Charny 1951;
@@ -39,6 +41,8 @@ import numpy as np
 
 from geompm.kernels.phreatic import head_pressure_2d, head_pressure_3d
 
+#: a moving head's change [cells] after which the state is solved again
+RESOLVE = 0.1
 #: unknowns up to which the sparse direct solver is used; pyamg's smoothed aggregation above
 DIRECT_LIMIT = 200_000
 #: the most iterations of the seepage faces and the unsaturated zone, and the change of the head [cells]
@@ -183,16 +187,34 @@ def _solve(Ke, rows, cols, conductivity, local, n, fixed):
 
 class SeepageSurface:
     """The pore pressure of a solved steady seepage (a WaterTable's ``surface``): p = rho_w |g| max(H(x) - z, 0)
-    with H the nodal head (solve_seepage), multilinear; it does not rise (``rise`` is ignored: the schema
-    refuses a schedule with a seepage state)."""
+    with H the nodal head (solve_seepage), multilinear.  ``schedule(time)`` gives the heads [(axis, high side?,
+    head)] at a time; the state is solved again through the soil's particles as they stand whenever a head has
+    moved by RESOLVE cells since the last solve (quasi-steady: a drained soil's pore pressure follows at once),
+    and ``pond`` is the pond's level at t = 0 on the free faces."""
 
-    def __init__(self, head, origin, h, report):
-        self.head = np.ascontiguousarray(head, float)
-        self.origin = np.asarray(origin, float)
-        self.h = float(h)
-        self.report = report
+    #: not drawn: solved with its faces, so never above the ground by mistake (phreatic_surface.table_warnings)
+    drawn = False
 
-    def pressure(self, p_x, p_material, acts, rise, gradient, out) -> None:
+    def __init__(self, schedule, pond, grid, unsaturated, points):
+        self.schedule = schedule
+        self.pond = pond
+        self.origin = np.asarray(grid.origin, float)
+        self.h = float(grid.h)
+        self.ncells = np.asarray(grid.ncells, np.int64)
+        self.unsaturated = unsaturated
+        self.solves = 0
+        self._solve(schedule(0.0), points)
+
+    def _solve(self, heads, points) -> None:
+        self.head, self.report = solve_seepage(points, self.origin, self.h, self.ncells, heads, self.pond,
+                                               self.unsaturated)
+        self.heads = heads
+        self.solves += 1
+
+    def pressure(self, p_x, p_material, acts, rise, gradient, out, time: float = 0.0) -> None:
+        heads = self.schedule(time)
+        if max((abs(a[2] - b[2]) for a, b in zip(heads, self.heads)), default=0.0) >= RESOLVE * self.h:
+            self._solve(heads, p_x[acts[p_material] > 0.0])
         kernel = head_pressure_2d if p_x.shape[1] == 2 else head_pressure_3d
         kernel(p_x, p_material, acts, self.head.astype(p_x.dtype), self.origin.astype(p_x.dtype), self.h,
                gradient, out)
@@ -200,7 +222,8 @@ class SeepageSurface:
     def describe(self) -> str:
         r = self.report
         return (f"a steady seepage state ({r['unknowns']} unknowns, {r['iterations']} iterations, "
-                f"{r['seepage_nodes']} seepage-face nodes, {r['saturated_cells']} of {r['cells']} cells saturated)")
+                f"{r['seepage_nodes']} seepage-face nodes, {r['saturated_cells']} of {r['cells']} cells saturated"
+                f"{'' if r['settled'] else ', not settled'})")
 
 
 def head_at(nodal, origin, h, pts) -> np.ndarray:

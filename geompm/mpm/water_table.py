@@ -74,7 +74,7 @@ class WaterTable:
         level (a buffer reused between calls; the pond's share is kept beside it for ``load``)."""
         out, pond = self._buffers(p_x)
         if self.surface is not None:
-            self.surface.pressure(p_x, p_material, self.acts, self.height(time), self.gradient, out)
+            self.surface.pressure(p_x, p_material, self.acts, self.height(time), self.gradient, out, time)
         elif self.normal is not None:
             phreatic_pressure(p_x, p_material, self.acts, self.normal.astype(p_x.dtype), self.height(time),
                               self.gradient, out)

@@ -318,17 +318,45 @@ class SideHeadSpec(Strict):
     """A hydraulic head held on a grid side (a reservoir or river against the soil there)."""
 
     side: Literal["x-", "x+", "y-", "y+", "z-", "z+"] = Field(description="Face of the grid")
-    head: float = Field(description="The head H [m] (the water level, in the vertical coordinate) held at that "
-                                    "side's soil nodes at or below it; above it the side is a seepage face")
+    head: float | list[float] = Field(
+        description="The head H [m] (the water level, in the vertical coordinate) held at that side's soil nodes "
+                    "at or below it; above it the side is a seepage face. A list: one head per time of the "
+                    "seepage's 'times' (a reservoir that rises or falls)")
+
+    def at(self, times, time: float) -> float:
+        """The head [m] at ``time`` (piecewise linear through ``times``, held beyond)."""
+        if not isinstance(self.head, list):
+            return float(self.head)
+        if time <= times[0]:
+            return float(self.head[0])
+        for (t0, h0), (t1, h1) in zip(zip(times, self.head), zip(times[1:], self.head[1:])):
+            if time <= t1:
+                return float(h1 if t1 == t0 else h0 + (h1 - h0) * (time - t0) / (t1 - t0))
+        return float(self.head[-1])
+
+    def highest(self) -> float:
+        return max(self.head) if isinstance(self.head, list) else float(self.head)
 
 
 class SeepageSpec(Strict):
-    """A steady seepage state solved once on the grid at the start (mpm/seepage.py)."""
+    """A steady seepage state solved on the grid (mpm/seepage.py): once at the start, and again as its heads
+    move (quasi-steady: drained soil's pore pressure follows at once)."""
 
+    times: list[float] = Field([0.0], min_length=1, max_length=1000,
+                               description="Times [s] of the heads given as lists, non-decreasing")
     heads: list[SideHeadSpec] = Field(default_factory=list, max_length=6,
                                       description="Heads held on grid sides; every other side is impermeable")
     unsaturated: float = Field(1.0e-3, gt=0.0, le=1.0, description="k_r [-]: the conductivity of the soil above the "
                                "phreatic surface over the saturated one (a non-linear permeability: Bathe & Khoshgoftaar 1979)")
+
+    @model_validator(mode="after")
+    def _schedules(self):
+        for held in self.heads:
+            if isinstance(held.head, list):
+                check_schedule(self.times, held.head, "head", "head")
+        if any(b < a for a, b in zip(self.times, self.times[1:])) or any(t < 0.0 for t in self.times):
+            raise ValueError("'times' must be >= 0 s and must not decrease")
+        return self
 
 
 class PorePressureSpec(Strict):

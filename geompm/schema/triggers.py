@@ -110,9 +110,9 @@ def seepage_problems(case, seepage, path: str) -> list[tuple[str, str]]:
         where = f"{path}.heads.{i}"
         if "xyz".index(held.side[0]) >= d:
             out.append((f"{where}.side", f"a {d}D grid has no side {held.side}"))
-        elif held.head > top:
-            out.append((f"{where}.head", f"{held.head:g} m is above the grid's top ({top:g} m): raise grid.extent "
-                                         "or lower the head"))
+        elif held.highest() > top:
+            out.append((f"{where}.head", f"{held.highest():g} m is above the grid's top ({top:g} m): raise "
+                                         "grid.extent or lower the head"))
     return out
 
 

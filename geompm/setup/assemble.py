@@ -19,7 +19,7 @@ from geompm.setup.bodies import overlap_problems, seed_body
 from geompm.files.dem import read_dem
 from geompm.mpm.phreatic_surface import (LatticeSurface, PolylineSurface, lattice_points, table_warnings,
                                         tin_lattice)
-from geompm.mpm.seepage import SeepageSurface, solve_seepage
+from geompm.mpm.seepage import SeepageSurface
 from geompm.mpm.water_table import WaterTable
 from geompm.schema.triggers import water_table_materials
 from geompm.kernels.overburden import column_overburden
@@ -338,14 +338,17 @@ def _water_table(case, loaded, names: list[str], gravity, grid, p_x, p_material)
 
 def seepage_state(spec, grid, points) -> SeepageSurface:
     """The steady seepage state of ``spec`` (schema WaterTableSpec with ``seepage``) through the cells that hold
-    ``points`` (the soils' particles), its pond at t = 0."""
-    heads = [("xyz".index(s.side[0]), s.side[1] == "+", s.head) for s in spec.seepage.heads]
+    ``points`` (the soils' particles), its pond at t = 0, solved again as its heads move."""
+    sp = spec.seepage
     pond = None if spec.pond is None else spec.pond.levels[0]
+
+    def schedule(time):
+        return [("xyz".index(s.side[0]), s.side[1] == "+", s.at(sp.times, time)) for s in sp.heads]
+
     try:
-        head, report = solve_seepage(points, grid.origin, grid.h, grid.ncells, heads, pond, spec.seepage.unsaturated)
+        return SeepageSurface(schedule, pond, grid, sp.unsaturated, points)
     except ValueError as exc:
         raise CaseError([("triggers.water_table.seepage", str(exc))]) from None
-    return SeepageSurface(head, grid.origin, grid.h, report)
 
 
 #: the most lattice points a 3D phreatic surface from points is sampled on (8 bytes each)

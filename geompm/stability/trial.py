@@ -88,6 +88,10 @@ def trial_sets(loaded, factor: float, duration: float, damping: list[dict]) -> l
             held["heights"] = [water.heights[0]]
         if water.pond is not None:
             held["pond"] = {"times": [0.0], "levels": [water.pond.levels[0]]}
+        if water.seepage is not None:
+            held["seepage"]["times"] = [0.0]
+            for row, spec in zip(held["seepage"]["heads"], water.seepage.heads):
+                row["head"] = spec.at(water.seepage.times, 0.0)
         trigger["water_table"] = held
     outputs = [{"writer": "series", "interval": duration / SERIES_ROWS, "displacement": True},
                {"writer": "vtu", "interval": duration}]

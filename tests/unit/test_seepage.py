@@ -134,3 +134,18 @@ def test_a_two_phase_body_starts_in_the_seepage_state():
     with pytest.raises(CaseError) as exc:
         assemble(parse_case(case, "."))
     assert any(p == "bodies.0.pore_pressure.seepage.heads.0.side" for p, _ in exc.value.problems)
+
+
+def test_a_rising_head_solves_the_state_again():
+    """A head schedule (seepage.times, a list per head): at t = 10 s the pressure is the state solved with the
+    head at its value then (3.5 m), and the state was not solved again for a change below a tenth of a cell."""
+    moving = scene_from_dict(_dam(seepage={"times": [0.0, 10.0], "heads": [{"side": "x-", "head": [3.0, 3.5]},
+                                                                           {"side": "x+", "head": 1.0}]}))
+    fixed = scene_from_dict(_dam(seepage={"heads": [{"side": "x-", "head": 3.5}, {"side": "x+", "head": 1.0}]}))
+    st = moving.state
+    table = moving.water_table
+    table.pressure(st.p_x, st.p_material, 0.4)  # 0.02 m: below a tenth of the 0.5 m cell
+    assert table.surface.solves == 1
+    p = table.pressure(st.p_x, st.p_material, 10.0).copy()
+    assert table.surface.solves == 2
+    assert p == pytest.approx(fixed.water_table.pressure(st.p_x, st.p_material, 0.0), rel=1e-9, abs=1e-6)

@@ -140,7 +140,7 @@ def seepage_head(spec, pw: PoreWater, pts: np.ndarray) -> np.ndarray:
     them (mpm/seepage.py; the grid's own cells)."""
     origin, extent, cell = pw.grid
     ncells = np.maximum(np.round(extent / cell).astype(np.int64), 1)
-    heads = [("xyz".index(s.side[0]), s.side[1] == "+", s.head) for s in spec.heads]
+    heads = [("xyz".index(s.side[0]), s.side[1] == "+", s.at(spec.times, 0.0)) for s in spec.heads]
     nodal, _ = solve_seepage(pts, origin, cell, ncells, heads, None, spec.unsaturated)
     return head_at(nodal, origin, cell, pts)
 

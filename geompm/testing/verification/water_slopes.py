@@ -103,7 +103,7 @@ def bishop_with_line(line=None, cohesion: float = 5.0e3, friction: float = 30.0,
     same equilibrium as the slices' total weight with the pond's water column on them and the full u (the
     hydrostatic pond pressure over the sliding mass's closed boundary is its buoyancy; per slice, the
     vertical balance W + W_water - u b = W' - u_excess b), and what the run itself does
-    (mpm/water_table.py).  ``head(x, y)``: a solved head field [m] in place of the line (no pond)."""
+    (mpm/water_table.py).  ``head(x, y)``: a solved head field [m] in place of the line."""
     ground = surface_from_points([-100.0, CREST_X, TOE_X, 200.0], [HEIGHT, HEIGHT, 0.0, 0.0])
     pts = None if line is None else np.asarray(line, float)
     g_w = RHO_W * 9.81
@@ -113,9 +113,7 @@ def bishop_with_line(line=None, cohesion: float = 5.0e3, friction: float = 30.0,
         return -np.inf if pts is None else float(np.interp(x, pts[:, 0], pts[:, 1]))
 
     def pore(x, y):
-        if head is not None:  # a solved head field H(x, y) (a steady seepage state)
-            return g_w * max(head(x, y) - y, 0.0)
-        level = max(table(x), z_p)
+        level = max(table(x), z_p) if head is None else max(head(x, y), z_p)  # a solved head field H(x, y)
         return g_w * (max(level - y, 0.0) - max(z_p - y, 0.0))
 
     def column(x, arc):
