@@ -14,7 +14,6 @@ the onset is the zero of a line fitted to its surface speed between 5 and 30 mm/
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import tempfile
 import time
@@ -23,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 import geompm
+from geompm.testing.rows import emit
 from geompm.api import scene_from_dict
 from geompm.kernels.lattice import bilinear
 from geompm.testing.verification.slopes import onset_from_velocity
@@ -81,10 +81,7 @@ def main() -> int:
                "bishop_onset_head": ref, "onset_time": onset_t, "onset_head": onset,
                "error": None if ref is None else onset / ref - 1.0, "exit_code": run.exit_code, "steps": steps,
                "wall_seconds": time.perf_counter() - t0}
-        print(json.dumps(row), flush=True)
-        if a.out:
-            with open(a.out, "a") as fh:
-                fh.write(json.dumps(row) + "\n")
+        emit(row, a.out)
     return 0
 
 

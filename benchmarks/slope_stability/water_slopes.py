@@ -21,6 +21,7 @@ import time
 from pathlib import Path
 
 import geompm
+from geompm.testing.rows import emit
 from geompm.testing.verification.water_slopes import (CREST_X, HEIGHT, TOE_X, bishop_with_line, phreatic_line,
                                                       slope_case)
 
@@ -79,10 +80,7 @@ def main() -> int:
                        "bracket": res["bracket"], "error": None if f is None else f / ref - 1.0,
                        "trials": len(res["trials"]), "message": res["message"],
                        "wall_seconds": time.perf_counter() - t0}
-                print(json.dumps(row), flush=True)
-                if a.out:
-                    with open(a.out, "a") as fh:
-                        fh.write(json.dumps(row) + "\n")
+                emit(row, a.out)
     return 0
 
 
