@@ -492,7 +492,8 @@ class WaterTableSpec(Strict):
                           "soil's pores below it (the water in the soil stands at least at the pond's level)")
     seepage: SeepageSpec | None = Field(
         None, description="In place of 'heights' or 'surface': the steady seepage state through the soil with heads "
-                          "on grid sides and the pond on its faces, solved once at the start (docs/slope-stability.md)")
+                          "on grid sides and the pond on its faces, solved at the start and again as its heads move "
+                          "(docs/slope-stability.md)")
     fluid_density: float = Field(1000.0, gt=0.0, description="rho_w [kg/m3] of the pore water")
     materials: list[str] | None = Field(None, description="The soils under the table's pore pressure (default "
                                                            "every dry soil: not a fluid, no 'pore_water')")
@@ -503,7 +504,8 @@ class WaterTableSpec(Strict):
             if self.surface is not None or self.heights is not None or self.normal is not None:
                 raise ValueError("a 'seepage' state is solved from its heads: remove 'heights', 'surface' and 'normal'")
             if len(self.times) != 1:
-                raise ValueError("a 'seepage' state is solved once, at the start: give one time")
+                raise ValueError("a 'seepage' state's heads carry their own schedule ('seepage.times'): give the "
+                                 "water table one time")
             if not self.seepage.heads and self.pond is None:
                 raise ValueError("a 'seepage' state needs a head somewhere: give 'seepage.heads' or a 'pond'")
         if self.surface is None and self.heights is None and self.pond is None and self.seepage is None:
