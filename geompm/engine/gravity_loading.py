@@ -32,15 +32,16 @@ import numpy as np
 
 from geompm.damping.local import LocalDamping
 from geompm.errors import SimulationError
+from geompm.kernels.reduce import velocity_change
 
 #: the fewest steps of the stage (the first step's ratio compares with the start's zero velocities)
 MIN_STEPS = 2
 
 
 def unbalanced_ratio(p_mass, v_new, v_old, dt: float, g: float) -> float:
-    """r of the module docstring."""
-    dv = v_new - v_old
-    return float(math.sqrt(float(np.sum(p_mass * np.sum(dv * dv, axis=1))) / float(np.sum(p_mass)))) / (dt * g)
+    """r of the module docstring; v_old takes v_new's values (kernels/reduce.velocity_change)."""
+    num, den = velocity_change(p_mass, v_new, v_old)
+    return math.sqrt(num / den) / (dt * g) if den > 0.0 else 0.0
 
 
 def gravity_loading(scene, spec, simulation) -> dict:
@@ -75,7 +76,6 @@ def gravity_loading(scene, spec, simulation) -> dict:
                 steps += 1
                 loading_time += dt
                 ratio = unbalanced_ratio(st.p_mass, st.p_v, v_old, dt, g)
-                v_old[:] = st.p_v
     finally:
         scene.damping = own
         for stage, saved in zip(scene.stages, recorded):

@@ -67,6 +67,23 @@ def kinetic_energy(p_mass, p_v):
 
 
 @njit(parallel=True, cache=True)
+def velocity_change(p_mass, p_v, p_v_old):
+    """(sum m |v - v_old|^2, sum m) over the particles, and p_v_old <- p_v: a step's mass-weighted squared
+    velocity change (the gravity-loading stage's unbalanced force, engine/gravity_loading.py)."""
+    num = 0.0
+    den = 0.0
+    for p in prange(p_v.shape[0]):
+        s = 0.0
+        for a in range(p_v.shape[1]):
+            dv = p_v[p, a] - p_v_old[p, a]
+            s += dv * dv
+            p_v_old[p, a] = p_v[p, a]
+        num += p_mass[p] * s
+        den += p_mass[p]
+    return num, den
+
+
+@njit(parallel=True, cache=True)
 def max_speed(p_v):
     n, d = p_v.shape
     vmax = 0.0

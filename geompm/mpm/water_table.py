@@ -90,7 +90,9 @@ class WaterTable:
         """Hand the backend the pore pressure its next P2G takes out of the effective stress (the excess
         over the pond's)."""
         p = self.pressure(state.p_x, state.p_material, time)
-        backend.set_table_pressure(p if self.pond is None else p - self._pond)
+        if self.pond is not None:
+            p -= self._pond  # the excess, in place: the buffer is refilled by the next call
+        backend.set_table_pressure(p)
 
     def force(self, backend, state, view, dt: float) -> None:
         """After P2G: the pond's buoyancy on the submerged particles into the nodal force (kernels/phreatic.
