@@ -128,7 +128,7 @@ def solve_seepage(p_x, origin, h, ncells, heads, pond, unsaturated=1e-3):
     H = np.where(np.isnan(fixed), z.max(), fixed)
     for iteration in range(1, MAX_ITERATIONS + 1):
         previous = H
-        H = _solve(Ke, rows, cols, conductivity, local, n_unknown, np.where(seep, z, fixed))
+        H = _solve(Ke, rows, cols, conductivity, n_unknown, np.where(seep, z, fixed))
         new_seep = seep | (candidate & (H > z + 1e-9 * h))
         suction = (H[local].mean(axis=1) - centre_z) / h  # the cell's pressure head in cells (< 0: unsaturated)
         new_k = np.clip(1.0 + suction, unsaturated, 1.0)
@@ -137,7 +137,7 @@ def solve_seepage(p_x, origin, h, ncells, heads, pond, unsaturated=1e-3):
         if settled:
             break
         seep, conductivity = new_seep, conductivity + RELAX * (new_k - conductivity)
-    inflow = _inflow(Ke, rows, cols, conductivity, local, n_unknown, H, node_idx, ncells, heads, fixed)
+    inflow = _inflow(Ke, rows, cols, conductivity, n_unknown, H, node_idx, ncells, heads, fixed)
     # outside the soil the head is the node's elevation (p = 0), so that p falls to 0 across the free faces
     all_idx = np.array(np.unravel_index(np.arange(int(np.prod(nn))), nn)).T
     nodal = origin[-1] + h * all_idx[:, -1].astype(float)
@@ -155,7 +155,7 @@ def _matrix(Ke, rows, cols, conductivity, n):
     return sp.csr_matrix((values, (rows, cols)), shape=(n, n))
 
 
-def _inflow(Ke, rows, cols, conductivity, local, n, H, node_idx, ncells, heads, fixed) -> list[float]:
+def _inflow(Ke, rows, cols, conductivity, n, H, node_idx, ncells, heads, fixed) -> list[float]:
     """The water entering through each head's side per unit conductivity [m2 in 2D, m3 in 3D, times k: per
     second]: the consistent nodal fluxes (K H)_i summed over the side's nodes held at the head."""
     r = _matrix(Ke, rows, cols, conductivity, n) @ H
@@ -166,7 +166,7 @@ def _inflow(Ke, rows, cols, conductivity, local, n, H, node_idx, ncells, heads, 
     return out
 
 
-def _solve(Ke, rows, cols, conductivity, local, n, fixed):
+def _solve(Ke, rows, cols, conductivity, n, fixed):
     """H with H = fixed where fixed is not NaN, K H = 0 elsewhere."""
     K = _matrix(Ke, rows, cols, conductivity, n)
     known = ~np.isnan(fixed)

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from typing import Annotated, Literal, Union
 
+import numpy as np
+
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 Vector = list[float]
@@ -325,14 +327,7 @@ class SideHeadSpec(Strict):
 
     def at(self, times, time: float) -> float:
         """The head [m] at ``time`` (piecewise linear through ``times``, held beyond)."""
-        if not isinstance(self.head, list):
-            return float(self.head)
-        if time <= times[0]:
-            return float(self.head[0])
-        for (t0, h0), (t1, h1) in zip(zip(times, self.head), zip(times[1:], self.head[1:])):
-            if time <= t1:
-                return float(h1 if t1 == t0 else h0 + (h1 - h0) * (time - t0) / (t1 - t0))
-        return float(self.head[-1])
+        return float(np.interp(time, times, self.head)) if isinstance(self.head, list) else float(self.head)
 
     def highest(self) -> float:
         return max(self.head) if isinstance(self.head, list) else float(self.head)
