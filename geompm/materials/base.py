@@ -43,6 +43,19 @@ from geompm.materials.plausible import DENSITY
 class MaterialParams(Params):
     density: float = Field(gt=0, description="Initial (reference) mass density rho0 [kg/m3]")
 
+    def with_porosity(self, porosity: float):
+        """The parameters a saturated material's law runs with, its pores holding water at the initial
+        ``porosity``: ``density`` (the grain density rho_s) becomes the skeleton's dry density
+        (1 - n0) rho_s, the solids' mass per volume its particles carry.  A law with a state tied to the
+        porosity sets it too (critical_state_sand.py)."""
+        return self.model_copy(update={"density": (1.0 - porosity) * self.density})
+
+    def saturation_checks(self, porosity: float | None) -> tuple[list, list]:
+        """(problems, warnings), each a list of (field, sentence), for the parameters against the material's
+        pore water (``porosity`` n0, None for a dry material): the case check refuses the problems and warns
+        the warnings, named ``materials.<name>.<field>``."""
+        return [], []
+
 
 class Material(Plugin):
     Params: ClassVar[type[MaterialParams]] = MaterialParams
@@ -119,6 +132,14 @@ class Material(Plugin):
     @property
     def density(self) -> float:
         return float(self.params.density)
+
+    def initial_stress_checks(self, stress: np.ndarray) -> tuple[list, list]:
+        """(problems, warnings), each a list of (parameter, sentence), for the law's block of particles at their
+        initial effective stress ``stress`` (n, 6) [Pa]: a law whose state follows from the stress (a
+        preconsolidation pressure, modified_cam_clay.py) says here what would start outside its range.  The
+        assembly refuses the problems and warns the warnings, named ``materials.<name>.<parameter>``, before
+        any step; a law may also set stress-dependent packed parameters here (its wave speed's stress)."""
+        return [], []
 
     def initial_state(self, n: int) -> np.ndarray:
         return np.zeros((n, len(self.state_vars)))

@@ -22,6 +22,11 @@ from geompm.contract.layout import param_layout
 ELASTIC = param_layout("density", "lam", "G")
 
 
+def lame_constants(E: float, nu: float) -> tuple[float, float]:
+    """Lame's lambda and G [Pa] of Young's modulus E [Pa] and Poisson's ratio nu."""
+    return E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
+
+
 class ElastoplasticParams(MaterialParams):
     youngs_modulus: float = Field(gt=0, description="Young's modulus E [Pa]")
     poisson_ratio: float = Field(ge=0.0, lt=0.5, description="Poisson's ratio nu [-], 0 <= nu < 0.5")
@@ -39,8 +44,7 @@ class ElastoplasticParams(MaterialParams):
         return math.inf if self.dilation_cutoff is None else float(self.dilation_cutoff)
 
     def lame(self):
-        E, nu = self.youngs_modulus, self.poisson_ratio
-        return E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
+        return lame_constants(self.youngs_modulus, self.poisson_ratio)
 
     def check_dilation(self):
         if self.dilation_angle > self.friction_angle:
@@ -149,7 +153,7 @@ class FrictionalMaterial(Material):
     @staticmethod
     def elastic_pack(p) -> dict:
         """The ELASTIC slots of a law with youngs_modulus and poisson_ratio."""
-        lam, G = p.lame()
+        lam, G = lame_constants(p.youngs_modulus, p.poisson_ratio)
         return {"density": p.density, "lam": lam, "G": G}
 
     def k0(self) -> float:

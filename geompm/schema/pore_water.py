@@ -3,7 +3,8 @@
 Refused, each with its JSON path: a fluid law with pore water (a fluid has no skeleton whose effective
 stress the water could share); neither or both of hydraulic_conductivity and intrinsic_permeability; a
 body's ``pore_pressure`` on a dry material; a fluid body beside saturated soil (the two waters do not
-mix); a water table without gravity or above the grid.  What the saturated step itself cannot run is the
+mix); a water table without gravity or above the grid; a law's parameters that disagree with its pore water
+or, dry, lack what the pore water would give (MaterialParams.saturation_checks; its warnings join the case's).  What the saturated step itself cannot run is the
 scheme's check (schemes/saturated/checks.py: every transfer and periodic axes run).
 """
 
@@ -23,6 +24,11 @@ def saturated_materials(case) -> set[str]:
 def pore_water_problems(case, loaded) -> list[tuple[str, str]]:
     out = []
     wet = saturated_materials(case)
+    for name, r in sorted(loaded.materials.items()):
+        pw = case.materials[name].pore_water
+        bad, warn = r.params.saturation_checks(None if pw is None else pw.porosity)
+        out += [(f"materials.{name}.{field}", text) for field, text in bad]
+        loaded.warnings.extend((f"materials.{name}.{field}", text) for field, text in warn)
     for name in sorted(wet):
         pw = case.materials[name].pore_water
         path = f"materials.{name}.pore_water"

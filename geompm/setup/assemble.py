@@ -227,6 +227,7 @@ def assemble(loaded: LoadedCase) -> Scene:
     starts = np.r_[0, np.cumsum(counts)]
     state.blocks = [(int(starts[k]), int(starts[k + 1])) for k in range(len(materials))]
     state.p_state = [m.initial_state(int(counts[k])) for k, m in enumerate(materials)]
+    _initial_stress_checks(materials, names, state, loaded)
     state.set_precision(case.solver.precision)
 
     scene = Scene(
@@ -255,6 +256,18 @@ def assemble(loaded: LoadedCase) -> Scene:
     _check_bodies_clear(scene)
     scheme.after_stages(scene)
     return scene
+
+
+def _initial_stress_checks(materials, names, state, loaded) -> None:
+    """Each law's word on its particles' initial effective stress (Material.initial_stress_checks): problems
+    refused, warnings added to the case's, before any step."""
+    problems = []
+    for k, (m, (a, b)) in enumerate(zip(materials, state.blocks)):
+        bad, warn = m.initial_stress_checks(state.p_stress[a:b])
+        problems += [(f"materials.{names[k]}.{field}", text) for field, text in bad]
+        loaded.warnings.extend((f"materials.{names[k]}.{field}", text) for field, text in warn)
+    if problems:
+        raise CaseError(problems, warnings=loaded.warnings)
 
 
 def _joined(per_body: list, sizes: list[int], width: int) -> list[np.ndarray]:

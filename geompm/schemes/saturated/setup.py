@@ -73,7 +73,7 @@ def skeleton_params(case, name: str, params):
     pw = case.materials[name].pore_water
     if pw is None:
         return params
-    return params.model_copy(update={"density": (1.0 - pw.porosity) * params.density})
+    return params.with_porosity(pw.porosity)
 
 
 def body_water(body, pw: PoreWater, mid: int, pts: np.ndarray, h: float, ppc: int):
