@@ -212,6 +212,7 @@ class ModifiedCamClay(Material):
     def __init__(self, params):
         super().__init__(params)
         self._p_wave_given = params.stiffness_pressure is not None
+        self._p_typical = self.prm[MCC.p_wave] / 4.0  # the initial mean stress's median, once known
 
     @classmethod
     def pack(cls, p):
@@ -249,6 +250,7 @@ class ModifiedCamClay(Material):
         if not self._p_wave_given:
             self.prm[MCC.p_wave] = 4.0 * float(pc.max())
         mean = -stress[:, :3].mean(axis=1)
+        self._p_typical = max(float(np.median(mean)), p.minimum_mean_stress)
         if p.preconsolidation_pressure is not None and p.overconsolidation_ratio == 1.0 and \
                 (mean > p.preconsolidation_pressure).any():
             warnings.append(("preconsolidation_pressure", f"{p.preconsolidation_pressure:g} Pa is below the initial "
@@ -267,6 +269,8 @@ class ModifiedCamClay(Material):
         return 1.0 - math.sin(math.radians(self.params.critical_friction_angle))
 
     def stiffness(self) -> float:
-        """The oedometric-free Young's modulus at the wave speed's mean stress [Pa]."""
-        K = self.prm[MCC.p_wave] / self.prm[MCC.kap_star]
+        """Young's modulus [Pa] at the median initial mean stress (at least p_min): a typical one, for
+        artificial damping and the energy check's strain energy sigma^2 / (2 E), which it then does not
+        underestimate for a block whose stresses spread from 0 to twice the median."""
+        K = self._p_typical / self.prm[MCC.kap_star]
         return float(3.0 * K * (1.0 - 2.0 * self.params.poisson_ratio))

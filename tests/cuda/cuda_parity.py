@@ -165,6 +165,12 @@ def scenes(folder: Path) -> dict:
         "drucker_prager_softening_2d": case2d(law("drucker_prager_softening", dilation_angle=0.0,
                                                   softening={"start": 0.0, "end": 0.02, "shape": "exponential"}),
                                               velocity=[1.0, 0.0]),
+        # the critical-state laws: the sand's cone from its density (a stretched, contracting block), the clay's
+        # implicit return from a geostatic start on a floor
+        "critical_state_sand_2d": case2d(law("critical_state_sand", youngs_modulus=2e6), velocity=[1.0, 0.0]),
+        "modified_cam_clay_2d": dict(case2d(law("modified_cam_clay", preconsolidation_pressure=5e3),
+                                            boundaries=[{"type": "wall", "side": "y-", "condition": "friction",
+                                                         "friction": 0.4}], velocity=[0.5, 0.0])),
         # the terrain needs rasterio (a device machine may be given the lean wheels: fetch_wheels.sh LEAN=1)
         **({"newtonian_3d_terrain_guard": dict(case3d(law("newtonian"), folder, obstacles=[
             {"type": "terrain", "name": "ground", "dem": terrain_dem(folder), "friction": 0.3}], terrain=True),
