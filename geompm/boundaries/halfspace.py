@@ -76,7 +76,7 @@ class HalfSpace(GridStage, ParticleStage):
     def water_boundary(self):
         """The half-space as a boundary of saturated soil (contract/stages.py): its nodes are those the
         contact rule reaches; ``drainage`` from the parameters."""
-        drained = self.params.drainage == "drained"
+        drained = self.params.drainage != "impermeable"  # a held head lets the water through too
         return (np.asarray(self.point, float), np.asarray(self.normal, float), float(self.prm[HALFSPACE.layer]),
                 drained)
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 from typing import Literal
 
 import numpy as np
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from geompm.contract.plugin import Params
 from geompm.contract.stages import FAR_NODE
@@ -32,9 +32,35 @@ class WallParams(Params):
         "'roller' (no normal motion either way, tangential free: a symmetry plane or a bonded smooth wall that "
         "holds tension)")
     friction: float = Field(0.0, ge=0.0, description="Coulomb coefficient mu [-] (condition 'friction')")
-    drainage: Literal["impermeable", "drained"] = Field(
+    drainage: Literal["impermeable", "drained", "head"] = Field(
         "impermeable", description="For saturated soil (materials' pore_water): 'impermeable' (no water flows "
-        "across) or 'drained' (water leaves freely, p = 0 at the boundary; docs/pore-water.md)")
+        "across), 'drained' (water leaves freely, p = 0 at the boundary) or 'head' (water flows freely across and "
+        "the pore pressure at the boundary is the head's, rho_w |g| (H - z): groundwater fed from below or "
+        "beside; docs/pore-water.md)")
+    head: float | list[float] | None = Field(
+        None, description="drainage 'head': the elevation H [m] of the water level that holds the pore pressure "
+        "at the wall (along -gravity, in the case's coordinates), one value or one per head_times")
+    head_times: list[float] = Field([0.0], min_length=1, max_length=1000,
+                                    description="Times [s] of a head given as a list, non-decreasing; between two "
+                                                "times H is linear")
+
+    @model_validator(mode="after")
+    def _head(self):
+        from geompm.schema.case import check_schedule
+
+        if (self.drainage == "head") != (self.head is not None):
+            raise ValueError("give 'head' [m] with drainage 'head', and only then")
+        if isinstance(self.head, list):
+            check_schedule(self.head_times, self.head, "head", "head")
+        return self
+
+    def head_schedule(self):
+        """(times [s], heads [m]) of drainage 'head', None otherwise."""
+        if self.head is None:
+            return None
+        if isinstance(self.head, list):
+            return list(self.head_times), list(self.head)
+        return [0.0], [float(self.head)]
 
 
 class Wall(HalfSpace):
@@ -67,6 +93,9 @@ class Wall(HalfSpace):
         else:
             self.first[axis] = n
         self.pack_halfspace()
+
+    def water_head(self):
+        return self.params.head_schedule()
 
     def node_box(self, time):
         return self.first, self.last

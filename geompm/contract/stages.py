@@ -124,6 +124,12 @@ class Stage(Plugin):
         relative flow across it (docs/pore-water.md)."""
         return None
 
+    def water_head(self):
+        """For a water boundary (water_boundary) that holds the pore pressure at a head: (times [s], heads [m])
+        of the water level's elevation H, linear between times; the saturated particles it drains hold
+        p = rho_w |g| (H - z) instead of 0.  None for every other stage."""
+        return None
+
     def drained_layer(self):
         """For a rigid solid that lets pore water through (a drained obstacle: a permeable or slit dam): the
         layer [m] outside its surface within which its contact acts, where the water keeps its velocity

@@ -43,8 +43,19 @@ def semi_implicit_warnings(case) -> list[tuple[str, str]]:
 
 def unsupported(case, loaded, incompressible: bool = False) -> list[tuple[str, str]]:
     """(JSON path, sentence) of what the scheme cannot run: APIC with linear hats; incompressible water
-    unless the scheme solves the pressure implicitly (``incompressible``), drained water if it does."""
+    unless the scheme solves the pressure implicitly (``incompressible``), drained water if it does; a wall
+    that holds a head with the implicit pressure or on a GPU."""
     out = [("solver.transfer", LINEAR_APIC)] if linear_apic(case) else []
+    for r in loaded.boundaries:
+        if r.cls(r.params, r.label, r.path).water_head() is None:
+            continue
+        if incompressible:
+            out.append((f"{r.path}.drainage", "a held head is built for the explicit two-phase step: set "
+                                              "solver.update to \"saturated\" (or \"saturated_musl\")"))
+        elif case.solver.backend != "cpu":
+            out.append((f"{r.path}.drainage", "a held head runs on the CPU backend only (its band's force is a "
+                                              "serial scatter, schemes/saturated/head.py): set solver.backend to "
+                                              "\"cpu\""))
     if incompressible:
         for name, mat in case.materials.items():
             if mat.pore_water is not None and mat.pore_water.drainage == "drained":

@@ -46,6 +46,11 @@ class PoreWater:
     solids: object = None  # the rigid solids' node fill (solids.SolidFill), made once the stages are set up
     grid: tuple = ()  # (origin, extent, cell size) of the grid [m]: the free surface's columns (surface.py)
     pressure_solver: object = None  # solver.pressure_solver (the semi-implicit scheme's solve)
+    heads: list = field(default_factory=list)  # per wall row: (times [s], levels [m]) of a held head, or None
+
+    def heads_at(self, time: float) -> np.ndarray:
+        """Each wall row's held head H [m] at ``time`` (NaN for a wall without one)."""
+        return np.array([np.nan if s is None else float(np.interp(time, s[0], s[1])) for s in self.heads])
 
     def surface(self, st, comm_max=None) -> np.ndarray:
         """Each particle's column's free surface z_s [m] along the upward direction (surface.py)."""

@@ -56,7 +56,8 @@ FORCE = NODE_WATER.force_x
 PV = NODE_WATER.pv  # g_w[i, PV]: sum N V p; g_w[i, PV + 1 + k]: sum N V sigma_k
 
 #: a row of the water boundaries ``walls`` (schemes/saturated/setup.wall_row): a point of the wall's plane [m],
-#: its unit normal into the material, the layer [m] of nodes it binds, 1 for a drained wall (0 impermeable)
+#: its unit normal into the material, the layer [m] of nodes it binds, 1 for a drained wall, 2 for one that holds
+#: a head (water crosses both; the particles at a held head keep their pressure), 0 impermeable
 WALL = param_layout("px", "py", "pz", "nx", "ny", "nz", "layer", "drained")
 #: a particle whose interpolated node fill (the particles' volume fraction around the nodes, the body
 #: mirrored in impermeable walls: node_fill) is below this is at the free surface or a drained boundary:
@@ -237,14 +238,14 @@ def one_node_fill(i, g_w, walls, origin, h, lo, nloc, d, cell_volume):
     f = g_w[i, NODE_WATER.volume] / cell_volume
     reach = 2.0 * h  # beyond this no node of a mirrored particle's stencil comes back
     for k in range(walls.shape[0]):
-        if walls[k, WALL.drained] > 0.0:
+        if walls[k, WALL.drained] == 1.0:  # a drained face is a free surface; a held head's is not (2)
             continue
         y0, y1, y2, dk = mirrored(x0, x1, x2, walls, k)
         if dk >= reach:
             continue
         f += raw_fill_at(y0, y1, y2, g_w, origin, h, lo, nloc, d, cell_volume)
         for j in range(k + 1, walls.shape[0]):
-            if walls[j, WALL.drained] > 0.0:
+            if walls[j, WALL.drained] == 1.0:
                 continue
             z0, z1, z2, dj = mirrored(y0, y1, y2, walls, j)
             if abs(dj) < reach:

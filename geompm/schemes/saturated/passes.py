@@ -30,7 +30,7 @@ import numpy as np
 
 from geompm.kernels.stencil import AFFINE, FLIP, SCHEMES, stencil_tag
 from geompm.schemes.saturated import kernels as tp
-from geompm.schemes.saturated import mirror
+from geompm.schemes.saturated import head, mirror
 from geompm.schemes.saturated.solids import WIDTH
 
 
@@ -59,6 +59,7 @@ class SaturatedPasses:
         self._no_solid = None  # zeros (cap, solids.WIDTH) for a scene without a rigid solid
         self.g_old = self.p_vw2 = self.p_Cw2 = None  # MUSL's scratch: the split's old velocity, a second G2P
         self._solid_host = self._solid = self.g_solid = None
+        self._time = 0.0  # the step's time (p2g), at which a held head is taken
 
     # -- what a backend gives --------------------------------------------------------------------------
     def _zeros(self, shape):
@@ -191,6 +192,7 @@ class SaturatedPasses:
         """Both phases onto the grid; leaves the mixture on the view (mass, momentum, internal force), the
         relative velocity w in g_rel and the nodes' fill (the rigid solids' share added)."""
         be, g = self.be, self.scene.grid
+        self._time = time
         P = self.particles()
         self._particles(self.be.state.n)
         nn = self._nodes(view)
@@ -203,6 +205,10 @@ class SaturatedPasses:
         be.each(tp.prepare_one, self.n, P.p_stress, P.p_pore, P.p_n, P.p_sat, P.p_vol, P.p_material, self.table,
                 self.p_total, self.p_wmass, self.p_drag)
         self._scatter(view, lo, nloc, P)
+        if self._held_heads():
+            head.band_force(self.tag, P.p_x, P.p_vol, P.p_n, P.p_sat, P.p_material, self.table, self.walls,
+                            self.pw.heads_at(time), self.gravity, float(np.linalg.norm(self.scene.gravity)), g.h,
+                            self._origin, g.kind, lo, nloc, self.g_w[:nn])
         halo((view.g_mass, view.g_mom, view.g_force, self.g_w[:nn]))
         self.fold(view, (view.g_mass.reshape(-1, 1), view.g_mom, view.g_force, self.g_w[:nn]))
         self.g_solid = self._solids(view, time)
@@ -273,6 +279,10 @@ class SaturatedPasses:
         nn = view.g_mass.shape[0]
         lo, nloc = self.window_index(view)
         self._scatter(view, lo, nloc, P)
+        if self._held_heads():
+            head.band_force(self.tag, P.p_x, P.p_vol, P.p_n, P.p_sat, P.p_material, self.table, self.walls,
+                            self.pw.heads_at(self._time), self.gravity, float(np.linalg.norm(self.scene.gravity)), g.h,
+                            self._origin, g.kind, lo, nloc, self.g_w[:nn])
         halo((view.g_mass, view.g_mom, view.g_force, self.g_w[:nn]))
         self.fold(view, (view.g_mass.reshape(-1, 1), view.g_mom, view.g_force, self.g_w[:nn]))
         be.each(tp.node_remap_one, nn, view.g_mass, view.g_mom, self.g_w[:nn], be.mass_eps, view.g_vel,
@@ -289,6 +299,20 @@ class SaturatedPasses:
             self.p_vw2, self.p_Cw2 = self._zeros((self.n, d)), self._zeros((self.n, d, d))
         self._water_g2p(view, self.p_vw2, self.p_Cw2, 0.0)
 
+    def _held_heads(self) -> bool:
+        """Whether a water boundary holds a head (Stage.water_head)."""
+        return any(s is not None for s in self.pw.heads)
+
+    def _hold_heads(self, hold: int) -> None:
+        """The particles at a held head (kernels.head_one): marked drained (0) before the increment, held
+        at the head's pressure (1) after it."""
+        if not self._held_heads():
+            return
+        P = self.particles()
+        self.be.each(head.head_one, self.n, P.p_x, P.p_drained, P.p_pore_carried, P.p_pore, P.p_sat, P.p_n,
+                     P.p_material, self.table, self.walls, self._on_device(self.pw.heads_at(self._time)),
+                     self.gravity, float(np.linalg.norm(self.scene.gravity)), self.scene.grid.h, hold)
+
     def pressure_step(self, view, dt: float, halo) -> None:
         """The drained flag, the pore pressure's increment from the divergences at the particles (the
         pressure seen through the grid with the smoothing) and both pressures advanced."""
@@ -296,6 +320,7 @@ class SaturatedPasses:
         P = self.particles()
         lo, nloc = self.window_index(view)
         be.each(tp.flag_drained_one, n, self.p_fill, P.p_sat, P.p_n, P.p_material, self.table, P.p_drained)
+        self._hold_heads(0)
         be.each(tp.pressure_increment_one, n, self.p_dp, self.p_divw, self.p_divs, P.p_n, P.p_material, self.table,
                 dt)
         dp = self.p_dp
@@ -303,6 +328,7 @@ class SaturatedPasses:
             self._smooth(view, lo, nloc, halo, P, self.p_dp, self.p_dps)
             dp = self.p_dps
         be.each(tp.add_increment_one, n, P.p_pore_carried, P.p_pore, dp, P.p_drained, P.p_material, self.table)
+        self._hold_heads(1)
 
     def porosity(self) -> None:
         P = self.particles()

@@ -93,7 +93,9 @@ class Saturated(Scheme):
         state.p_Cw[:] = 0.0
 
     def after_stages(self, scene) -> None:
-        rows = [setup.wall_row(s.water_boundary()) for s in scene.stages if s.water_boundary() is not None]
+        bounds = [s for s in scene.stages if s.water_boundary() is not None]
+        self.water.heads = [s.water_head() for s in bounds]
+        rows = [setup.wall_row(s.water_boundary(), held is not None) for s, held in zip(bounds, self.water.heads)]
         self.water.walls = np.array(rows).reshape(-1, len(WALL))
         self.water.solids = SolidFill(scene)
 

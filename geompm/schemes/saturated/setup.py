@@ -154,12 +154,13 @@ def buoyant_mass(p_mass, p_vol, p_material, p_sat, p_buoyant, pw: PoreWater) -> 
     return p_mass + p_sat * (n0 * rho_w * p_vol - p_buoyant * rho_w * p_vol)
 
 
-def wall_row(wall) -> np.ndarray:
-    """A water boundary (Stage.water_boundary: point, normal, layer, drained) as a row of kernels.WALL."""
+def wall_row(wall, held: bool = False) -> np.ndarray:
+    """A water boundary (Stage.water_boundary: point, normal, layer, drained) as a row of kernels.WALL; ``held``:
+    it holds a head (Stage.water_head), drained 2 (head.py)."""
     point, normal, layer, drained = wall
     row = np.zeros(len(WALL))
     row[WALL.px:WALL.px + len(point)] = point
     row[WALL.nx:WALL.nx + len(normal)] = normal
     row[WALL.layer] = layer
-    row[WALL.drained] = 1.0 if drained else 0.0
+    row[WALL.drained] = 2.0 if held else (1.0 if drained else 0.0)
     return row
