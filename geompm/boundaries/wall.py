@@ -19,6 +19,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from geompm.contract.plugin import Params
+from geompm.contract.schedule import check_schedule
 from geompm.contract.stages import FAR_NODE
 from geompm.boundaries.halfspace import HalfSpace
 
@@ -46,8 +47,6 @@ class WallParams(Params):
 
     @model_validator(mode="after")
     def _head(self):
-        from geompm.schema.case import check_schedule
-
         if (self.drainage == "head") != (self.head is not None):
             raise ValueError("give 'head' [m] with drainage 'head', and only then")
         if isinstance(self.head, list):

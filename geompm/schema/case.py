@@ -16,6 +16,8 @@ import numpy as np
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
+from geompm.contract.schedule import check_schedule
+
 Vector = list[float]
 
 
@@ -421,16 +423,6 @@ class BodySpec(Strict):
 
 
 NAME_PATTERN = r"^[A-Za-z0-9_\-][A-Za-z0-9_.\-]*$"  # names a folder: never '.', '..' or hidden
-
-
-def check_schedule(times, values, key: str, noun: str) -> None:
-    """A trigger's schedule: one value per time, times >= 0 s and non-decreasing (ValueError otherwise)."""
-    if len(times) != len(values):
-        raise ValueError(f"'times' has {len(times)} entries and '{key}' {len(values)}: give one {noun} per time")
-    if any(b < a for a, b in zip(times, times[1:])):
-        raise ValueError("'times' must not decrease")
-    if any(t < 0.0 for t in times):
-        raise ValueError("'times' must be >= 0 s")
 
 
 class StrengthReductionSpec(Strict):
