@@ -18,7 +18,8 @@ flow is isochoric at tan phi_cs.
 
 Each step matches the plane-strain Drucker-Prager cone to (phi_m, psi) at the start of the step
 (drucker_prager.dp_cone) and returns the Kirchhoff trial stress to it (drucker_prager.dp_return; de Souza Neto,
-Peric & Owen 2008, sec. 8.3.3), cohesionless, the apex at zero mean stress.  A contracting flow (psi < 0) has a
+Peric & Owen 2008, sec. 8.3.3), with the cohesion c (default 0: the apex at zero mean stress; the tension
+cut-off at the apex).  A contracting flow (psi < 0) has a
 negative potential slope beta; beta is bounded so that the return's modulus G + 9 K_b alpha beta stays above
 G / 4 (K_b the bulk modulus), a bound that acts only below psi of about -30 degrees.  The mobilised friction is
 bounded below by zero (a separated, very loose particle has no strength).
@@ -40,11 +41,11 @@ from geompm.contract.layout import param_layout
 from geompm.materials.base import MaterialParams
 from geompm.materials.drucker_prager import dp_cone, dp_return
 from geompm.materials.plasticity import ELASTIC, FrictionalMaterial, current_moduli, kirchhoff_trial
-from geompm.materials.plausible import DENSITY, YOUNGS_MODULUS, Plausible, angle
+from geompm.materials.plausible import COHESION, DENSITY, YOUNGS_MODULUS, Plausible, angle
 
 #: packed parameters: ELASTIC, tan of the critical friction angle [-], the critical solid fraction [-], the
-#: dilatancy coefficient K [-], the grain density rho_0 / phi_s0 [kg/m3]
-CSS = param_layout(ELASTIC, "tan_phi_cs", "phi_c", "dilatancy", "rho_grain")
+#: dilatancy coefficient K [-], the grain density rho_0 / phi_s0 [kg/m3], the cohesion c [Pa]
+CSS = param_layout(ELASTIC, "tan_phi_cs", "phi_c", "dilatancy", "rho_grain", "cohesion")
 
 #: the densest packing of equal spheres (Kepler's, proven by Hales 2005): no granular soil is denser
 DENSEST_PACKING = 0.7405
@@ -64,6 +65,9 @@ class CriticalStateSandParams(MaterialParams):
     solid_fraction: float | None = Field(
         None, gt=0.0, lt=1.0, description="Initial solid volume fraction phi_s0 [-] (1 - porosity). A saturated "
         "material takes it from pore_water.porosity (give it there); required for a dry one")
+    cohesion: float = Field(
+        0.0, ge=0.0, description="Cohesion c [Pa] of the matched cone, with the friction phi_m: an apparent "
+        "cohesion (the suction of an unsaturated sand, roots, fines); 0 for a clean sand")
     max_solid_fraction: float = Field(
         DENSEST_PACKING, gt=0.0, le=DENSEST_PACKING,
         description="The densest state the soil can reach [-] (e.g. 1 - n_min of the sand); a denser initial "
@@ -119,21 +123,22 @@ def css_stress(prm, dt, L, rho, s, state):
     sin_psi = tan_psi / math.sqrt(1.0 + tan_psi * tan_psi)
     alpha, kc, beta = dp_cone(tan_phi * cos_phi, cos_phi, sin_psi, 0)
     beta = max(beta, -0.75 * G / (9.0 * K * alpha)) if alpha > 0.0 else beta
+    k = kc * prm[CSS.cohesion]
     tr = kirchhoff_trial(s, L, dt, lam, G)
-    dp_return(s, state, tr, K, G, alpha, 0.0, beta, 0.0)
+    dp_return(s, state, tr, K, G, alpha, k, beta, k / (3.0 * alpha) if alpha > 0.0 else 0.0)
     state[2] = phi_s
 
 
 class CriticalStateSand(FrictionalMaterial):
     name = "critical_state_sand"
     backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda/cuda_parity.py); compiles for sm_90 (tests/cuda/cuda_compile.py)
-    description = "Critical-state sand: friction and dilatancy from the solid fraction (Roux-Radjai), cohesionless"
+    description = "Critical-state sand: friction and dilatancy from the solid fraction (Roux-Radjai), with an optional cohesion"
     Params = CriticalStateSandParams
     state_vars = ("plastic_strain", "plastic_volumetric_strain", "solid_fraction")
     layout = CSS
     particle_stress = css_stress
     strength_reduction = False
-    plausible = (DENSITY, YOUNGS_MODULUS, angle("critical_friction_angle"),
+    plausible = (DENSITY, YOUNGS_MODULUS, angle("critical_friction_angle"), COHESION,
                  Plausible("dilatancy_coefficient", high=20.0, hint=lambda v: (
                      f"above 20: a 0.01 change of solid fraction would turn the dilatancy angle by more than "
                      f"{math.degrees(math.atan(0.01 * v)):.2g} deg; sands and glass beads measure 1-10")))
@@ -144,7 +149,7 @@ class CriticalStateSand(FrictionalMaterial):
             raise ValueError("critical_state_sand: solid_fraction is unset (the case check names it)")
         return {**cls.elastic_pack(p), "tan_phi_cs": math.tan(math.radians(p.critical_friction_angle)),
                 "phi_c": p.critical_solid_fraction, "dilatancy": p.dilatancy_coefficient,
-                "rho_grain": p.density / p.solid_fraction}
+                "rho_grain": p.density / p.solid_fraction, "cohesion": p.cohesion}
 
     @classmethod
     def example_params(cls):
