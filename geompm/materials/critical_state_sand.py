@@ -110,15 +110,20 @@ class CriticalStateSandParams(MaterialParams):
         return [], warnings
 
 
+@njit(cache=True, inline="always")
+def mobilised(prm, phi_s):
+    """(tan phi_m, tan psi) at the solid fraction phi_s (module docstring), the friction never negative."""
+    tan_psi = max(prm[CSS.dilatancy] * (phi_s - prm[CSS.phi_c]), -prm[CSS.tan_phi_cs])
+    return prm[CSS.tan_phi_cs] + tan_psi, tan_psi
+
+
 @njit(cache=True)
 def css_stress(prm, dt, L, rho, s, state):
     """One particle's critical-state sand return (module docstring); s (6,) and state (3,) in place."""
     lam, G = current_moduli(prm, rho)
     K = lam + 2.0 * G / 3.0
     phi_s = rho / prm[CSS.rho_grain]
-    tan_psi = prm[CSS.dilatancy] * (phi_s - prm[CSS.phi_c])
-    tan_psi = max(tan_psi, -prm[CSS.tan_phi_cs])  # no negative friction
-    tan_phi = prm[CSS.tan_phi_cs] + tan_psi
+    tan_phi, tan_psi = mobilised(prm, phi_s)
     cos_phi = 1.0 / math.sqrt(1.0 + tan_phi * tan_phi)
     sin_psi = tan_psi / math.sqrt(1.0 + tan_psi * tan_psi)
     alpha, kc, beta = dp_cone(tan_phi * cos_phi, cos_phi, sin_psi, 0)
@@ -158,10 +163,7 @@ class CriticalStateSand(FrictionalMaterial):
 
     def friction_and_dilatancy(self, phi_s: float) -> tuple[float, float]:
         """(phi_m, psi) [deg] at the solid fraction ``phi_s`` (module docstring)."""
-        p = self.params
-        tan_psi = max(p.dilatancy_coefficient * (phi_s - p.critical_solid_fraction),
-                      -math.tan(math.radians(p.critical_friction_angle)))
-        tan_phi = math.tan(math.radians(p.critical_friction_angle)) + tan_psi
+        tan_phi, tan_psi = mobilised(self.prm, phi_s)
         return math.degrees(math.atan(tan_phi)), math.degrees(math.atan(tan_psi))
 
     def k0(self) -> float:

@@ -127,6 +127,24 @@ def _yield(dl, q_tr, c6, M2, p_n, dev, pc_n, kap, hard, p_min):
     return f, df, x, p, q, pc
 
 
+@njit(cache=True, inline="always")
+def initial_preconsolidation(prm, s):
+    """p_c [Pa] of a particle at its initial effective stress s (Voigt): max(OCR p_eq, the given p_c, p_min) with
+    p_eq = p + q^2 / (M^2 p) the ellipse through s (0 where p <= 0)."""
+    mean = (s[0] + s[1] + s[2]) / 3.0
+    q = SQ3 * sqrt_j2(s, mean)
+    p = -mean
+    peq = p + q * q / (prm[MCC.M] * prm[MCC.M] * p) if p > 0.0 else 0.0
+    return max(prm[MCC.ocr] * peq, prm[MCC.pc_given], prm[MCC.p_min])
+
+
+@njit(cache=True)
+def initial_preconsolidations(prm, stress, out):
+    """initial_preconsolidation of each row of stress (n, 6) into out (n,)."""
+    for i in range(stress.shape[0]):
+        out[i] = initial_preconsolidation(prm, stress[i])
+
+
 @njit(cache=True)
 def mcc_stress(prm, dt, L, rho, s, state):
     """One particle's Modified Cam-Clay return (module docstring); s (6,) and state (3,) in place."""
@@ -137,9 +155,7 @@ def mcc_stress(prm, dt, L, rho, s, state):
     mean_n = (s[0] + s[1] + s[2]) / 3.0
     p_n = -mean_n
     if state[2] <= 0.0:  # first step: the ellipse through the initial stress, times OCR, or the given p_c
-        q0 = SQ3 * sqrt_j2(s, mean_n)
-        peq = p_n + q0 * q0 / (M2 * p_n) if p_n > 0.0 else 0.0
-        state[2] = max(prm[MCC.ocr] * peq, prm[MCC.pc_given], p_min)
+        state[2] = initial_preconsolidation(prm, s)
     G = prm[MCC.g_ratio] * max(p_n, p_min) / kap
     tr = elastic_trial(s, L, dt, -2.0 * G / 3.0, G)  # the deviator's trial; its mean is still mean_n
     dev = -(L[0, 0] + L[1, 1] + L[2, 2]) * dt  # volumetric strain increment, compression positive
@@ -230,14 +246,11 @@ class ModifiedCamClay(Material):
                           swelling_index=0.04, void_ratio=1.0, overconsolidation_ratio=1.2)
 
     def start_preconsolidation(self, stress: np.ndarray) -> np.ndarray:
-        """Each particle's p_c at its first step from its initial effective stress (n, 6) (module docstring)."""
-        p = -stress[:, :3].mean(axis=1)
-        dev = stress.copy()
-        dev[:, :3] += p[:, None]
-        q2 = 1.5 * ((dev[:, :3] ** 2).sum(axis=1) + 2.0 * (dev[:, 3:] ** 2).sum(axis=1))
-        M2 = self.params.m_ratio() ** 2
-        peq = np.where(p > 0.0, p + q2 / (M2 * np.where(p > 0.0, p, 1.0)), 0.0)
-        return np.maximum(np.maximum(self.prm[MCC.ocr] * peq, self.prm[MCC.pc_given]), self.prm[MCC.p_min])
+        """Each particle's p_c at its first step from its initial effective stress (n, 6): the kernel's own
+        initial_preconsolidation."""
+        out = np.empty(len(stress))
+        initial_preconsolidations(self.prm, np.ascontiguousarray(stress, dtype=float), out)
+        return out
 
     def initial_stress_checks(self, stress: np.ndarray) -> tuple[list[tuple[str, str]], list[tuple[str, str]]]:
         """(problems, warnings) as (field, sentence) for the block's initial effective stress; sets the wave
