@@ -52,6 +52,43 @@ def line(label, s, ref):
             f"{len(s['trials'])} trials, {steps} steps, {s['wall']:.0f} s")
 
 
+def column(model: str, dilation: float, tau, beta=20.0, phi=30.0) -> float:
+    """The one-dimensional column's factor for the same trial (geompm/testing/verification/slope_column.py)."""
+    from geompm.contract.registry import get
+    from geompm.testing.verification.slope_column import column_factor
+
+    params = dict(density=2000.0, youngs_modulus=2e6, poisson_ratio=0.3, friction_angle=phi,
+                  dilation_angle=dilation, cohesion=0.0, dilation_cutoff=1.0)
+    return column_factor(get("materials", model), params, low=1.0, high=2.5, elements=40, slope=beta,
+                         viscoplastic_time=tau)[0]
+
+
+def regularised(out: Path) -> None:
+    """psi = 0 with the trials' default viscoplastic time (duration / 800) against the column's factor with the
+    same regularisation, at three cell sizes; the set-up of a 0.2 m strip; the steep associated slope."""
+    print("reference: the column's factor (slope_column.py, 40 elements) with the same viscoplastic time\n")
+    for model in ("mohr_coulomb", "drucker_prager"):
+        ref = column(model, 0.0, 0.0025)
+        print(f"{model} psi = 0: column {ref:.4f} (inviscid {column(model, 0.0, None):.4f}, Davis {davis():.4f})")
+        for h in (0.1, 0.05, 0.025):
+            name = f"reg_{model}_psi0_{h:g}"
+            print(line(f"  h = {h:g} m", run(out, name, infinite_slope_case(h, dilation=0.0, model=model)), ref),
+                  flush=True)
+    ref = column("mohr_coulomb", 0.0, 0.0025)
+    print(f"0.2 m strip, mohr_coulomb psi = 0: column {ref:.4f}")
+    for h in (0.02, 0.01, 0.005):
+        name = f"reg_strip_{h:g}"
+        print(line(f"  h = {h:g} m", run(out, name, infinite_slope_case(h, dilation=0.0, model="mohr_coulomb",
+                                                                        depth=0.2)), ref), flush=True)
+    ref = column("drucker_prager", 40.0, 0.0025, beta=36.0, phi=40.0)
+    print(f"steep associated slope (beta 36, phi 40): tan(phi)/tan(beta) = {limit_equilibrium(36, 40, 0):.4f}, "
+          f"column {ref:.4f}")
+    for h in (0.1, 0.05, 0.025):
+        name = f"reg_steep_{h:g}"
+        print(line(f"  h = {h:g} m", run(out, name, infinite_slope_case(h, slope=36.0, friction=40.0, dilation=40.0)),
+                   limit_equilibrium(36, 40, 0)), flush=True)
+
+
 def main():
     out = Path(sys.argv[1])
     part = sys.argv[2] if len(sys.argv) > 2 else "main"
@@ -68,6 +105,9 @@ def main():
                     name = f"{label.split(',')[0].replace(' ', '_').replace('=', '')}_{kw.get('cohesion', 0):g}_{h:g}_T{duration:g}"
                     print(line(f"{label}, T = {duration:g} s, h = {h:g} m",
                                run(out, name, infinite_slope_case(h, end=duration, **kw)), ref), flush=True)
+        return
+    if part == "regularised":
+        regularised(out)
         return
     label, kw, ref = cases[1]
     print(f"failure criterion: increment ratio ({label}, h = 0.05 m):")

@@ -141,3 +141,10 @@ class Backend:
 
     def nbytes(self) -> int:
         raise NotImplementedError
+
+
+def relaxed_materials(scene) -> list[bool]:
+    """Per material: whether ``solver.viscoplastic_time`` regularises its law (the law declares an elastic
+    predictor: Material.elastic_predictor; kernels/viscoplastic.py)."""
+    tau = getattr(scene, "viscoplastic_time", None)
+    return [bool(tau) and type(m).elastic_predictor is not None for m in scene.materials]

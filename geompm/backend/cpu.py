@@ -22,7 +22,7 @@ from geompm.kernels.transfer2d import g2p_2d, p2g_2d
 from geompm.kernels.transfer3d import g2p_3d, p2g_3d
 from geompm.kernels.vectorised import Vectorised
 from geompm.contract.stages import DRY_NODE, FAR_NODE, GridStage, ParticleStage
-from geompm.backend.base import Backend
+from geompm.backend.base import Backend, relaxed_materials
 from geompm.backend.cpu_loops import update_law_block
 from geompm.backend.cpu_loops import block_loops
 from geompm.backend.cpu_stage_loops import merge_loop, node_loop, particle_loop
@@ -51,6 +51,9 @@ class CpuBackend(Backend):
         self.max_rate = None
         for mat in scene.materials:
             block_loops(type(mat))  # generate (or load) every law's and stage's loops before the first step
+        #: per material: whether solver.viscoplastic_time regularises its law (it has an elastic predictor)
+        self.relaxed = relaxed_materials(scene)
+        self._old = {}  # per material block: the relaxation's scratch rows (stress and state at the step's start)
         self._every_node = (np.full(scene.dim, -FAR_NODE, np.int64), np.full(scene.dim, FAR_NODE, np.int64))
         #: per stage: its loops and its accumulator and scratch rows, made once
         self._plans = {id(s): self._plan(s) for s in scene.stages}
@@ -130,9 +133,15 @@ class CpuBackend(Backend):
     def update_stress(self, dt: float) -> None:
         st = self.state
         rate = 0.0
-        for mat, (s, e), sv in zip(self.scene.materials, st.blocks, st.p_state):
+        for k, (mat, (s, e), sv) in enumerate(zip(self.scene.materials, st.blocks, st.p_state)):
             if e > s:
-                rate = max(rate, update_law_block(mat, dt, st.p_L[s:e], st.p_rho[s:e], st.p_stress[s:e], sv))
+                relax = None
+                if self.relaxed[k]:
+                    old = self._old.get(k)
+                    if old is None or old.shape != (e - s, 6 + sv.shape[1]):
+                        old = self._old[k] = np.zeros((e - s, 6 + sv.shape[1]))
+                    relax = (old, dt / self.scene.viscoplastic_time)
+                rate = max(rate, update_law_block(mat, dt, st.p_L[s:e], st.p_rho[s:e], st.p_stress[s:e], sv, relax))
         self.max_rate = rate
 
     def each(self, fn, n: int, *args) -> None:

@@ -56,6 +56,29 @@ def wave_speed_block(prm, p_rho):
 '''
 
 
+#: the stress loop regularised by a relaxation time (kernels/viscoplastic.py), for a law with an elastic predictor
+RELAXED = '''
+@njit(parallel=True, fastmath={fm_law_stress}, cache=True)
+def relaxed_block(prm, dt, p_L, p_rho, p_stress, p_state, p_old, r):
+    rate = 0.0
+    for p in prange(p_L.shape[0]):
+        L = p_L[p]
+        keep(p_stress[p], p_state[p], p_old[p])
+        law_stress(prm, dt, L, p_rho[p], p_stress[p], p_state[p])
+        relax(p_stress[p], p_state[p], p_old[p], law_predictor(prm, dt, L, p_rho[p], p_old[p]), r)
+        rate = max(rate, max(abs(L[0, 0]), max(abs(L[1, 1]), abs(L[2, 2]))))
+    return rate
+'''
+
+
+def relaxed_loop(law):
+    """The stress loop of a law with ``elastic_predictor``, Duvaut-Lions regularised (kernels/viscoplastic.py)."""
+    from geompm.kernels.viscoplastic import keep_one, relax_one
+
+    return loops("law_relaxed", {"law_stress": law.particle_stress, "law_predictor": law.elastic_predictor,
+                                 "keep": keep_one, "relax": relax_one}, RELAXED, ("relaxed_block",))[0]
+
+
 def block_loops(law):
     """(stress_block, wave_speed_block) of a material class."""
     stress, wave = law.particle_stress, law.particle_wave_speed
@@ -65,9 +88,12 @@ def block_loops(law):
     return loops("law", {"law_stress": stress, "law_wave": wave}, BODY, ("stress_block", "wave_speed_block"))
 
 
-def update_law_block(mat, dt, p_L, p_rho, p_stress, p_state) -> float:
+def update_law_block(mat, dt, p_L, p_rho, p_stress, p_state, relax=None) -> float:
     """Advance the stress of a block of particles of material ``mat`` in place through its law's loop (the one
-    the engine runs); returns the block's largest stretching rate |L_ii| [1/s]."""
+    the engine runs); returns the block's largest stretching rate |L_ii| [1/s].  ``relax``: (p_old scratch
+    (n, 6 + state width), dt / tau) for the viscoplastic regularisation of a law with an elastic predictor."""
+    if relax is not None:
+        return float(relaxed_loop(type(mat))(mat.prm, dt, p_L, p_rho, p_stress, p_state, relax[0], relax[1]))
     return float(block_loops(type(mat))[0](mat.prm, dt, p_L, p_rho, p_stress, p_state))
 
 

@@ -40,7 +40,7 @@ from geompm.kernels.stencil import SCHEMES
 from geompm.contract.stages import DRY_NODE, FAR_NODE
 from geompm.backend import cuda_kernels as K
 from geompm.backend import cuda_loops, cuda_sort
-from geompm.backend.base import Backend
+from geompm.backend.base import Backend, relaxed_materials
 
 #: the particle arrays that live on the device (and the scheme's own: its passes' ``device_arrays``)
 DEVICE_ARRAYS = ("p_x", "p_x0", "p_v", "p_C", "p_mass", "p_vol", "p_rho", "p_stress", "p_L")
@@ -95,6 +95,10 @@ class CudaBackend(Backend):
         self._dry_node = cuda.to_device(DRY_NODE)  # every node of a dry scene: friction on the total stress
         self._prm = [cuda.to_device(m.prm) for m in scene.materials]
         self._laws = [cuda_loops.stress_kernel(type(m)) for m in scene.materials]
+        #: per material: the regularised kernel where solver.viscoplastic_time applies to its law, else None
+        self._relaxed = [cuda_loops.relaxed_kernel(type(m)) if on else None
+                         for m, on in zip(scene.materials, relaxed_materials(scene))]
+        self._old: dict = {}  # per material block: the relaxation's scratch rows on the device
         self._dev: dict = {}
         self._dev_state: list = []
         self._tables: dict = {}  # (stage, pass) -> (its aux on the host, the device copy)
@@ -187,10 +191,18 @@ class CudaBackend(Backend):
     def update_stress(self, dt: float) -> None:
         dev = self._device()
         rate = cuda.to_device(np.zeros(1))
-        for law, prm, (s, e), sv in zip(self._laws, self._prm, self.state.blocks, self._dev_state):
-            if e > s:
-                law[K.blocks(e - s), K.THREADS](prm, dt, dev["p_L"][s:e], dev["p_rho"][s:e], dev["p_stress"][s:e],
-                                                 sv, rate)
+        for k, (law, prm, (s, e), sv) in enumerate(zip(self._laws, self._prm, self.state.blocks, self._dev_state)):
+            if e <= s:
+                continue
+            args = (prm, dt, dev["p_L"][s:e], dev["p_rho"][s:e], dev["p_stress"][s:e], sv)
+            relaxed = self._relaxed[k]
+            if relaxed is None:
+                law[K.blocks(e - s), K.THREADS](*args, rate)
+                continue
+            old = self._old.get(k)
+            if old is None or old.shape != (e - s, 6 + sv.shape[1]):
+                old = self._old[k] = cuda.device_array((e - s, 6 + sv.shape[1]), np.float64)
+            relaxed[K.blocks(e - s), K.THREADS](*args, old, dt / self.scene.viscoplastic_time, rate)
         self.max_rate = float(rate.copy_to_host()[0])
 
     def dt_parts(self):

@@ -69,6 +69,20 @@ def stress_kernel(prm, dt, p_L, p_rho, p_stress, p_state, rate):
     cuda.atomic.max(rate, 0, max(abs(L[0, 0]), max(abs(L[1, 1]), abs(L[2, 2]))))
 '''
 
+#: the law's stress kernel regularised by a relaxation time (kernels/viscoplastic.py; cpu_loops.RELAXED)
+RELAXED = '''
+@cuda.jit
+def relaxed_kernel(prm, dt, p_L, p_rho, p_stress, p_state, p_old, r, rate):
+    p = cuda.grid(1)
+    if p >= p_L.shape[0]:
+        return
+    L = p_L[p]
+    keep(p_stress[p], p_state[p], p_old[p])
+    law_stress(prm, dt, L, p_rho[p], p_stress[p], p_state[p])
+    relax(p_stress[p], p_state[p], p_old[p], law_predictor(prm, dt, L, p_rho[p], p_old[p]), r)
+    cuda.atomic.max(rate, 0, max(abs(L[0, 0]), max(abs(L[1, 1]), abs(L[2, 2]))))
+'''
+
 NODE = '''
 @cuda.jit
 def node_kernel(prm, aux, dt, origin, h, lo, nloc, b0, bn, total, g_mass, g_vel, g_vel_old, g_force, g_pore, wet,
@@ -157,6 +171,15 @@ def _kernel(kind: str, name: str, source: str, functions: dict):
 
 def stress_kernel(law):
     return _kernel("law", "stress_kernel", LAW, {"law_stress": law.particle_stress})
+
+
+def relaxed_kernel(law):
+    """The stress kernel of a law with ``elastic_predictor``, Duvaut-Lions regularised."""
+    from geompm.kernels.viscoplastic import keep_one, relax_one
+
+    return _kernel("law_relaxed", "relaxed_kernel", RELAXED, {"law_stress": law.particle_stress,
+                                                              "law_predictor": law.elastic_predictor,
+                                                              "keep": keep_one, "relax": relax_one})
 
 
 def node_kernel(rule, scratch: int, slots: int, maxima=()):

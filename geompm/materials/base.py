@@ -79,6 +79,10 @@ class Material(Plugin):
     #: the per-particle @njit functions (module docstring)
     particle_stress: ClassVar = None
     particle_wave_speed: ClassVar = None
+    #: the law's elastic predictor, an @njit ``(prm, dt, L, rho, s) -> Voigt 6-tuple`` (the stress the law
+    #: would reach if the step stayed elastic), or None: a law that gives it is regularised by
+    #: ``solver.viscoplastic_time`` (kernels/viscoplastic.py); one without runs inviscid
+    elastic_predictor: ClassVar = None
 
     def __init__(self, params):
         self.params = params

@@ -82,6 +82,13 @@ def kirchhoff_trial(s, L, dt, lam, G):
 
 
 @njit(cache=True, inline="always")
+def moduli_predictor(prm, dt, L, rho, s):
+    """The elastic predictor of a law with current_moduli and kirchhoff_trial (Material.elastic_predictor)."""
+    lam, G = current_moduli(prm, rho)
+    return kirchhoff_trial(s, L, dt, lam, G)
+
+
+@njit(cache=True, inline="always")
 def sqrt_j2(s, mean):
     d0 = s[0] - mean
     d1 = s[1] - mean
@@ -143,6 +150,7 @@ class FrictionalMaterial(Material):
     strength_reduction = True
 
     particle_wave_speed = elastic_wave_speed
+    elastic_predictor = moduli_predictor
 
     @classmethod
     def strength_reduced(cls, params, factor: float) -> dict:

@@ -92,6 +92,14 @@ class SolverSpec(Strict):
         0.99, ge=0.0, le=1.0, description="FLIP fraction of the velocity update per step (transfer 'flip' "
         "only) [-]; the PIC share 1 - ratio dissipates per step, so more steps dissipate more"
     )
+    viscoplastic_time: float | None = Field(
+        None, gt=0, description="Relaxation time tau [s] of a Duvaut-Lions viscoplastic regularisation of every "
+        "law with an elastic predictor (the Mohr-Coulomb and Drucker-Prager families, the critical-state sand): "
+        "the stress reaches the yield surface over tau instead of at once, sigma = (sigma_trial + (dt/tau) "
+        "sigma_return) / (1 + dt/tau), so a perfectly plastic non-associated soil cannot localise into bands one "
+        "cell wide (docs/slope-stability.md, The cause); short against the loading, e.g. 0.0025 s for a "
+        "strength-reduction trial of 2 s (geompm stability sets T/800 unless the case gives one); default off"
+    )
     flip_relaxation_time: float | None = Field(
         None, gt=0, description="Transfer 'flip': relax the particle velocity towards the grid's (PIC) with "
         "this time constant tau [s] instead of a fixed ratio per step: ratio = exp(-dt / tau), a dissipation "

@@ -68,6 +68,8 @@ class Scene:
     water_table: object = None
     #: the gravity-loading stage's report (engine/gravity_loading.py) once it ran, else None
     loading: dict | None = None
+    #: solver.viscoplastic_time [s]: the laws' Duvaut-Lions relaxation time (kernels/viscoplastic.py), or None
+    viscoplastic_time: float | None = None
     case_text: str = ""  # the case as JSON, for provenance only (the HDF5 file's attribute); never parsed
 
     @property
@@ -240,6 +242,7 @@ def assemble(loaded: LoadedCase) -> Scene:
         rebalance_interval=case.solver.rebalance_interval, precision=case.solver.precision,
         p2g=case.solver.p2g,
         flip_tau=case.solver.flip_relaxation_time,
+        viscoplastic_time=case.solver.viscoplastic_time,
         apic_dinv=(1.0 / (APIC_D_FACTOR[kind] * h * h)) if APIC_D_FACTOR[kind] > 0 else 0.0,
         nu_max=max((m.kinematic_viscosity() for m in materials), default=0.0),
         case_text=json.dumps(loaded.raw), crs=case.crs, body_materials=[b.material for b in case.bodies],

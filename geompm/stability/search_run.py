@@ -25,7 +25,7 @@ from geompm.files.ownership import holds_only, prepare_folder
 from geompm.schema.load import load_case, read_json
 from geompm.stability import criterion, report
 from geompm.stability.search import Search
-from geompm.stability.trial import check_case, drained_materials, trial_damping, trial_sets
+from geompm.stability.trial import check_case, drained_materials, trial_damping, trial_sets, viscoplastic_time
 from geompm.study.execute import Pool, check_threads, run_variant, threads_per_run
 from geompm.study.metrics import read_series
 
@@ -85,7 +85,7 @@ def _round(pool, case, out: Path, factors, sets_of, threads, first: int) -> list
 
 def stability(case, out=None, sets=(), tolerance: float = 0.01, start: float = 1.0, duration: float | None = None,
               damping_rate: float | None = None, local_damping: float = 0.0, ratio: float = criterion.DEFAULT_RATIO,
-              overwrite: bool = False, workers: int | None = None, scheduler: str | None = None,
+              relaxation: float | None = None, overwrite: bool = False, workers: int | None = None, scheduler: str | None = None,
               threads: int | None = None, progress=None) -> dict:
     """The factor of safety of ``case`` (a case file) by strength reduction; see the module docstring.
     ``progress(row)``: called with each trial's row as it is judged (the CLI prints it)."""
@@ -97,9 +97,12 @@ def stability(case, out=None, sets=(), tolerance: float = 0.01, start: float = 1
     duration, rate, floor = check_options(loaded, tolerance, start, duration, damping_rate, local_damping, ratio,
                                           workers)
     damping = trial_damping(loaded, rate, local_damping)
+    if relaxation is not None and relaxation < 0.0:
+        raise CaseError([("--viscoplastic-time", f"{relaxation:g} s: give a relaxation time in seconds, or 0 for none")])
+    tau = viscoplastic_time(loaded, duration, relaxation)
 
     def sets_of(f):
-        return list(sets) + trial_sets(loaded, f, duration, damping)
+        return list(sets) + trial_sets(loaded, f, duration, damping, tau)
 
     load_case(case, sets_of(start))  # the trial case itself is valid before anything runs
     out = Path(out or Path("stability") / raw.get("name", Path(case).stem))
@@ -133,7 +136,8 @@ def stability(case, out=None, sets=(), tolerance: float = 0.01, start: float = 1
     rows.sort(key=lambda r: r["factor"])
     summary = {"case": case, **result, "tolerance": tolerance, "message": message,
                "criterion": {"ratio": ratio, "floor_m": floor, "duration_s": duration,
-                             "damping_rate": rate, "local_damping": local_damping},
+                             "damping_rate": rate, "local_damping": local_damping,
+                             "viscoplastic_time_s": tau},
                "drained_water": drained_materials(loaded),
                "inconsistent": search.inconsistent(), "trials": rows}
     failed = [r for r in rows if r["failed"]]

@@ -38,6 +38,8 @@ from geompm.errors import CaseError
 
 SERIES_ROWS = 40
 XI = 1e-3
+#: the trials' default viscoplastic time is the trial's duration over this (0.0025 s for a trial of 2 s)
+VISCOPLASTIC_SHARE = 800.0
 #: the least factor a trial starts from (the strength trigger's lowest)
 LOWEST_START = 0.05
 
@@ -75,8 +77,17 @@ def drained_materials(loaded) -> list[str]:
     return sorted(name for name, m in loaded.case.materials.items() if m.pore_water is not None)
 
 
-def trial_sets(loaded, factor: float, duration: float, damping: list[dict]) -> list[str]:
-    """The --set overrides of the trial at ``factor``."""
+def viscoplastic_time(loaded, duration: float, given: float | None) -> float | None:
+    """The trials' Duvaut-Lions relaxation time [s] (kernels/viscoplastic.py): ``given`` (0: none), else the
+    case's own solver.viscoplastic_time, else duration / VISCOPLASTIC_SHARE."""
+    if given is not None:
+        return float(given) if given > 0.0 else None
+    own = loaded.case.solver.viscoplastic_time
+    return float(own) if own is not None else duration / VISCOPLASTIC_SHARE
+
+
+def trial_sets(loaded, factor: float, duration: float, damping: list[dict], relaxation: float | None = None) -> list[str]:
+    """The --set overrides of the trial at ``factor``; ``relaxation``: the laws' viscoplastic time [s] or None."""
     f0 = 1.0 if factor >= 1.0 else max(0.5 * factor, LOWEST_START)
     trigger = {"strength_reduction": {"times": [0.0, 0.25 * duration, 0.5 * duration],
                                       "factors": [f0, f0, float(factor)], "materials": reducible_materials(loaded)}}
@@ -97,4 +108,5 @@ def trial_sets(loaded, factor: float, duration: float, damping: list[dict]) -> l
                {"writer": "vtu", "interval": duration}]
     drained = [f"materials.{name}.pore_water.drainage=\"drained\"" for name in drained_materials(loaded)]
     return [f"triggers={json.dumps(trigger)}", f"time.end={json.dumps(duration)}",
-            f"damping={json.dumps(damping)}", f"outputs={json.dumps(outputs)}", *drained]
+            f"damping={json.dumps(damping)}", f"outputs={json.dumps(outputs)}",
+            f"solver.viscoplastic_time={json.dumps(relaxation)}", *drained]

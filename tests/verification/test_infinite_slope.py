@@ -25,10 +25,10 @@ from geompm.testing.verification.slopes import infinite_slope_case, limit_equili
 pytestmark = pytest.mark.slow
 
 
-def _trial(tmp_path, h, cohesion, factor):
-    raw = infinite_slope_case(h, cohesion=cohesion)
+def _trial(tmp_path, h, cohesion, factor, relaxation=None, **kw):
+    raw = infinite_slope_case(h, cohesion=cohesion, **kw)
     loaded = parse_case(raw)
-    sets = trial_sets(loaded, factor, 2.0, trial_damping(loaded, 20.0, 0.0))
+    sets = trial_sets(loaded, factor, 2.0, trial_damping(loaded, 20.0, 0.0), relaxation)
     run = geompm.run(raw, out=tmp_path / f"h{h:g}_c{cohesion:g}_F{factor:.4f}", overrides=sets, progress=False,
                      quiet=True)
     assert run.exit_code == 0
@@ -40,5 +40,27 @@ def _trial(tmp_path, h, cohesion, factor):
 def test_infinite_slope_stands_below_and_fails_above_three_percent(tmp_path, h, cohesion):
     ref = limit_equilibrium(20.0, 30.0, cohesion)
     below, above = _trial(tmp_path, h, cohesion, 0.97 * ref), _trial(tmp_path, h, cohesion, 1.03 * ref)
+    assert not below["failed"], below
+    assert above["failed"], above
+
+
+@pytest.mark.parametrize("model", ["mohr_coulomb", "drucker_prager"])
+@pytest.mark.parametrize("h", [0.1, 0.05, 0.025])
+def test_non_associated_slope_with_the_trials_regularisation(tmp_path, h, model):
+    """psi = 0 (the soil of most slope analyses) under the trials' default Duvaut-Lions time T/800
+    (kernels/viscoplastic.py; stability/trial.viscoplastic_time): the trial stands at 0.97 and fails at 1.03
+    times the one-dimensional column's factor with the same law, schedule and regularisation
+    (geompm/testing/verification/slope_column.py: 1.4847 Mohr-Coulomb, 1.4778 Drucker-Prager; Davis 1968:
+    1.4775), at three cell sizes.  Without the regularisation Mohr-Coulomb failed at 0.88 of it at h = 0.025 m
+    through vertical bands one cell wide (docs/slope-stability.md, The cause)."""
+    from geompm.contract.registry import get
+    from geompm.testing.verification.slope_column import column_factor
+
+    tau = 2.0 / 800.0
+    params = dict(density=2000.0, youngs_modulus=2e6, poisson_ratio=0.3, friction_angle=30.0, dilation_angle=0.0,
+                  cohesion=0.0, dilation_cutoff=1.0)
+    ref, _ = column_factor(get("materials", model), params, low=1.3, high=1.7, elements=20, viscoplastic_time=tau)
+    kw = dict(dilation=0.0, model=model)
+    below, above = _trial(tmp_path, h, 0.0, 0.97 * ref, tau, **kw), _trial(tmp_path, h, 0.0, 1.03 * ref, tau, **kw)
     assert not below["failed"], below
     assert above["failed"], above
