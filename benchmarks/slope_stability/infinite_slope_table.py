@@ -52,7 +52,7 @@ def line(label, s, ref):
             f"{len(s['trials'])} trials, {steps} steps, {s['wall']:.0f} s")
 
 
-def column(model: str, dilation: float, tau, beta=20.0, phi=30.0) -> float:
+def column(model: str, dilation: float, tau, beta=20.0, phi=30.0, depth=1.0, duration=2.0) -> float:
     """The one-dimensional column's factor for the same trial (geompm/testing/verification/slope_column.py)."""
     from geompm.contract.registry import get
     from geompm.testing.verification.slope_column import column_factor
@@ -60,7 +60,7 @@ def column(model: str, dilation: float, tau, beta=20.0, phi=30.0) -> float:
     params = dict(density=2000.0, youngs_modulus=2e6, poisson_ratio=0.3, friction_angle=phi,
                   dilation_angle=dilation, cohesion=0.0, dilation_cutoff=1.0)
     return column_factor(get("materials", model), params, low=1.0, high=2.5, elements=40, slope=beta,
-                         viscoplastic_time=tau)[0]
+                         depth=depth, duration=duration, viscoplastic_time=tau)[0]
 
 
 def regularised(out: Path) -> None:
@@ -74,19 +74,28 @@ def regularised(out: Path) -> None:
             name = f"reg_{model}_psi0_{h:g}"
             print(line(f"  h = {h:g} m", run(out, name, infinite_slope_case(h, dilation=0.0, model=model)), ref),
                   flush=True)
-    ref = column("mohr_coulomb", 0.0, 0.0025)
-    print(f"0.2 m strip, mohr_coulomb psi = 0: column {ref:.4f}")
+    strip_and_steep(out)
+
+
+def strip_and_steep(out: Path) -> None:
+    """The 0.2 m strip (psi = 0) at h = 0.02 / 0.01 / 0.005 m, and the steep associated slope with trials of 2 s
+    and of 4 s (the column: a 2 s trial stops 3-4 % short of the closed form on this slope)."""
+    ref = column("mohr_coulomb", 0.0, 0.0025, depth=0.2)
+    print(f"0.2 m strip, mohr_coulomb psi = 0: column {ref:.4f} (0.2 m deep)")
     for h in (0.02, 0.01, 0.005):
         name = f"reg_strip_{h:g}"
         print(line(f"  h = {h:g} m", run(out, name, infinite_slope_case(h, dilation=0.0, model="mohr_coulomb",
                                                                         depth=0.2)), ref), flush=True)
-    ref = column("drucker_prager", 40.0, 0.0025, beta=36.0, phi=40.0)
-    print(f"steep associated slope (beta 36, phi 40): tan(phi)/tan(beta) = {limit_equilibrium(36, 40, 0):.4f}, "
-          f"column {ref:.4f}")
-    for h in (0.1, 0.05, 0.025):
-        name = f"reg_steep_{h:g}"
-        print(line(f"  h = {h:g} m", run(out, name, infinite_slope_case(h, slope=36.0, friction=40.0, dilation=40.0)),
-                   limit_equilibrium(36, 40, 0)), flush=True)
+    closed = limit_equilibrium(36, 40, 0)
+    for duration in (2.0, 4.0):
+        ref = column("drucker_prager", 40.0, duration / 800.0, beta=36.0, phi=40.0, duration=duration)
+        print(f"steep associated slope (beta 36, phi 40), T = {duration:g} s: tan(phi)/tan(beta) = {closed:.4f}, "
+              f"column {ref:.4f} ({100 * (ref / closed - 1):+.2f} %)")
+        for h in (0.1, 0.05, 0.025):
+            name = f"reg_steep_{h:g}_T{duration:g}"
+            s = run(out, name, infinite_slope_case(h, slope=36.0, friction=40.0, dilation=40.0, end=duration))
+            print(line(f"  h = {h:g} m", s, closed) + f"  against the column {100 * (s['factor_of_safety'] / ref - 1):+.2f} %",
+                  flush=True)
 
 
 def main():
@@ -108,6 +117,9 @@ def main():
         return
     if part == "regularised":
         regularised(out)
+        return
+    if part == "strip_and_steep":
+        strip_and_steep(out)
         return
     label, kw, ref = cases[1]
     print(f"failure criterion: increment ratio ({label}, h = 0.05 m):")

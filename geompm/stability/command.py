@@ -37,6 +37,8 @@ def add_parser(sub) -> None:
                    help="the laws' Duvaut-Lions relaxation time in the trials [s] (default the case's "
                         "solver.viscoplastic_time, else duration / 800; 0: none): keeps a non-associated soil from "
                         "failing through bands one cell wide (docs/slope-stability.md)")
+    p.add_argument("--bishop-circle", type=float, nargs=3, metavar=("XC", "YC", "R"),
+                   help="a limit-equilibrium slip circle [m] drawn over the mechanism beside its slip surface (2D)")
     p.add_argument("--ratio", type=float, default=criterion.DEFAULT_RATIO,
                    help="failure criterion: a trial failed if its largest displacement grew over its last quarter "
                         f"by at least this share of its growth over the quarter before (default {criterion.DEFAULT_RATIO})")
@@ -60,7 +62,8 @@ def cmd_stability(args) -> int:
 
     summary = stability(args.case, out=args.out, sets=args.set, tolerance=args.tolerance, start=args.start,
                         duration=args.duration, damping_rate=args.damping_rate, local_damping=args.local_damping,
-                        ratio=args.ratio, relaxation=args.viscoplastic_time, overwrite=args.overwrite, workers=args.workers, scheduler=args.scheduler,
+                        ratio=args.ratio, relaxation=args.viscoplastic_time, circle=args.bishop_circle,
+                        overwrite=args.overwrite, workers=args.workers, scheduler=args.scheduler,
                         threads=args.threads, progress=progress)
     folder = summary.pop("folder")
     if args.json:

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from geompm.files.atomic import atomic_path
+from geompm.stability import slip
 
 
 def last_vtu(run_dir: Path) -> Path | None:
@@ -16,24 +17,34 @@ def last_vtu(run_dir: Path) -> Path | None:
     return files[-1] if files else None
 
 
-def write_mechanism(out: Path, run_dir: Path, title: str) -> list[str]:
+def write_mechanism(out: Path, run_dir: Path, title: str, dim: int = 2, cell_size: float = 1.0,
+                    duration: float = 1.0, circle=None) -> list[str]:
     """mechanism.vtu (the failed trial's last VTU: displacement and every state variable, the plastic shear
-    strain among them) and mechanism.png (2D: particles coloured by plastic strain and by displacement);
-    the names of the files written."""
-    src = last_vtu(run_dir)
-    if src is None:
+    strain among them), slip_surface.csv (the band of largest plastic shear strain rate over the trial's last
+    quarter: slip.py) and mechanism.png (2D: particles coloured by plastic strain and by displacement, the slip
+    surface over them, and the limit-equilibrium ``circle`` (x_c, y_c, R) [m] where given); the names of the
+    files written."""
+    files = sorted((run_dir / "particles").glob("particles_*.vtu"))
+    if not files:
         return []
+    src = files[-1]
     with atomic_path(out / "mechanism.vtu") as tmp:
         shutil.copyfile(src, tmp)
     made = ["mechanism.vtu"]
+    surface = None
+    if len(files) >= 2:
+        x, rate = slip.plastic_rate(files[-2], src, duration / 4.0)
+        surface = slip.slip_surface(x, rate, dim, cell_size)
+        slip.write_csv(out / "slip_surface.csv", surface, dim)
+        made.append("slip_surface.csv")
     try:
-        made += _png(out / "mechanism.png", src, title)
+        made += _png(out / "mechanism.png", src, title, surface if dim == 2 else None, circle)
     except ImportError:
         print("mechanism.png not drawn: install matplotlib (python -m pip install 'geompm[plot]')")
     return made
 
 
-def _png(png: Path, vtu: Path, title: str) -> list[str]:
+def _png(png: Path, vtu: Path, title: str, surface=None, circle=None) -> list[str]:
     import meshio
 
     from geompm.plots.figure import pyplot, save
@@ -49,6 +60,17 @@ def _png(png: Path, vtu: Path, title: str) -> list[str]:
                              (axes[1], disp, "displacement [m]")):
         sc = ax.scatter(x[:, 0], x[:, 1], c=value, s=size, cmap="viridis", linewidths=0)
         fig.colorbar(sc, ax=ax, label=label)
+        if surface is not None and len(surface):
+            ax.plot(surface[:, 0], surface[:, 1], "r-", lw=1.2, label="slip surface (largest plastic strain rate)")
+        if circle is not None:
+            xc, yc, r = circle
+            t = np.linspace(0.0, 2.0 * np.pi, 721)
+            cx, cy = xc + r * np.cos(t), yc + r * np.sin(t)
+            inside = (cx >= x[:, 0].min()) & (cx <= x[:, 0].max()) & (cy >= x[:, 1].min()) & (cy <= x[:, 1].max())
+            ax.plot(np.where(inside, cx, np.nan), np.where(inside, cy, np.nan), "w--", lw=1.2,
+                    label=f"limit-equilibrium circle ({xc:g}, {yc:g}) m, R = {r:g} m")
+        if surface is not None or circle is not None:
+            ax.legend(fontsize=7, loc="upper right")
         ax.set_aspect("equal")
         ax.set_ylabel("y [m]")
     axes[1].set_xlabel("x [m]")

@@ -29,7 +29,7 @@ from geompm.stability.trial import check_case, drained_materials, trial_damping,
 from geompm.study.execute import Pool, check_threads, run_variant, threads_per_run
 from geompm.study.metrics import read_series
 
-STABILITY_FILES = {"trials", "stability.json", "mechanism.vtu", "mechanism.png"}
+STABILITY_FILES = {"trials", "stability.json", "mechanism.vtu", "mechanism.png", "slip_surface.csv"}
 MAX_TRIALS = 60
 
 
@@ -85,11 +85,13 @@ def _round(pool, case, out: Path, factors, sets_of, threads, first: int) -> list
 
 def stability(case, out=None, sets=(), tolerance: float = 0.01, start: float = 1.0, duration: float | None = None,
               damping_rate: float | None = None, local_damping: float = 0.0, ratio: float = criterion.DEFAULT_RATIO,
-              relaxation: float | None = None, overwrite: bool = False, workers: int | None = None, scheduler: str | None = None,
+              relaxation: float | None = None, circle=None, overwrite: bool = False, workers: int | None = None, scheduler: str | None = None,
               threads: int | None = None, progress=None) -> dict:
     """The factor of safety of ``case`` (a case file) by strength reduction; see the module docstring.
     ``progress(row)``: called with each trial's row as it is judged (the CLI prints it)."""
     check_threads(threads)
+    if circle is not None and (len(circle) != 3 or not circle[2] > 0.0):
+        raise CaseError([("--bishop-circle", f"{circle}: give the centre and the radius, XC YC R [m], R > 0")])
     case = str(case)
     raw = read_json(Path(case))
     loaded = load_case(case, list(sets))
@@ -138,13 +140,16 @@ def stability(case, out=None, sets=(), tolerance: float = 0.01, start: float = 1
                "criterion": {"ratio": ratio, "floor_m": floor, "duration_s": duration,
                              "damping_rate": rate, "local_damping": local_damping,
                              "viscoplastic_time_s": tau},
+               "bishop_circle": list(circle) if circle is not None else None,
                "drained_water": drained_materials(loaded),
                "inconsistent": search.inconsistent(), "trials": rows}
     failed = [r for r in rows if r["failed"]]
     if failed:
         first = min(failed, key=lambda r: r["factor"])
         summary["mechanism"] = report.write_mechanism(out, Path(first["run_dir"]),
-                                                      f"{raw.get('name', '')}: trial at F = {first['factor']:.4f}")
+                                                      f"{raw.get('name', '')}: trial at F = {first['factor']:.4f}",
+                                                      dim=loaded.case.dimension, cell_size=float(loaded.case.grid.cell_size),
+                                                      duration=duration, circle=circle)
         summary["mechanism_factor"] = first["factor"]
     atomic_write_json(out / "stability.json", summary)
     summary["folder"] = str(out)

@@ -54,9 +54,33 @@ def test_a_slope_failing_as_it_stands_is_reported_not_refused(tmp_path, capsys):
     assert summary["factor_of_safety"] == pytest.approx(limit_equilibrium(20.0, 15.0, 0.0), rel=0.08)
 
 
+def test_slip_surface_of_a_cohesive_slope_lies_at_its_base(tmp_path, capsys):
+    """c = 2 kPa: the infinite slope's strength over its stress is least at the base (Taylor 1948: the
+    cohesion's share falls with depth), so the failed trial's band of largest plastic strain rate, written as
+    slip_surface.csv, lies within a cell of the base (h = 0.2 m) along the whole strip; the mechanism figure is
+    drawn with a given circle; stability.json records the trials' viscoplastic time (T/800) and the circle."""
+    case = _case(tmp_path, cohesion=2000.0)
+    out = tmp_path / "stab"
+    assert main(["stability", str(case), "--out", str(out), "--json", "--tolerance", "0.1", "--workers", "2",
+                 "--threads", "1", "--bishop-circle", "0.8", "30.0", "29.5"]) == 0
+    summary = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert "slip_surface.csv" in summary["mechanism"]
+    rows = (out / "slip_surface.csv").read_text().splitlines()
+    assert rows[0] == "x_m,y_m"
+    pts = [tuple(map(float, r.split(","))) for r in rows[1:]]
+    assert len(pts) >= 6  # eight cells along the strip
+    assert all(0.0 <= y <= 0.2 for _, y in pts), pts
+    saved = json.loads((out / "stability.json").read_text())
+    assert saved["criterion"]["viscoplastic_time_s"] == pytest.approx(1.0 / 800.0)
+    assert saved["bishop_circle"] == [0.8, 30.0, 29.5]
+    assert (out / "mechanism.png").stat().st_size > 1000
+
+
 @pytest.mark.parametrize("args, path", [(["--tolerance", "0"], "--tolerance"), (["--local-damping", "1.0"], "--local-damping"),
                                         (["--ratio", "-1"], "--ratio"), (["--duration", "0"], "--duration"),
-                                        (["--damping-rate", "0"], "--damping-rate")])
+                                        (["--damping-rate", "0"], "--damping-rate"),
+                                        (["--viscoplastic-time", "-1"], "--viscoplastic-time"),
+                                        (["--bishop-circle", "1", "1", "0"], "--bishop-circle")])
 def test_bad_options_are_refused_before_any_trial(tmp_path, capsys, args, path):
     case = _case(tmp_path)
     assert main(["stability", str(case), "--out", str(tmp_path / "s"), *args]) == 2

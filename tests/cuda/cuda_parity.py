@@ -167,6 +167,11 @@ def scenes(folder: Path) -> dict:
                                               velocity=[1.0, 0.0]),
         # the critical-state laws: the sand's cone from its density (a stretched, contracting block), the clay's
         # implicit return from a geostatic start on a floor
+        # the laws' Duvaut-Lions regularisation (solver.viscoplastic_time: cuda_loops.relaxed_kernel)
+        # (phi 5 deg, no cohesion: it yields in the first step; the regularised stress differs from the inviscid
+        # by a quarter of its magnitude after 3 steps)
+        "mohr_coulomb_viscoplastic_2d": case2d(law("mohr_coulomb", friction_angle=5.0, dilation_angle=0.0,
+                                                   cohesion=0.0), {"viscoplastic_time": 0.002}, velocity=[0.5, 0.0]),
         "critical_state_sand_2d": case2d(law("critical_state_sand", youngs_modulus=2e6), velocity=[1.0, 0.0]),
         "modified_cam_clay_2d": dict(case2d(law("modified_cam_clay", preconsolidation_pressure=5e3),
                                             boundaries=[{"type": "wall", "side": "y-", "condition": "friction",
