@@ -17,6 +17,12 @@ law, whose perfectly plastic flow admits bands one cell wide (docs/slope-stabili
 well-posed dynamic problem (Needleman 1988, Comput. Methods Appl. Mech. Eng. 67:69; Loret & Prevost 1990,
 Comput. Methods Appl. Mech. Eng. 83:247).
 
+Granular soil carries no viscous tension: where the relaxed stress would be tensile in the mean and more
+tensile than the inviscid return (a particle at a free surface pulled apart faster than tau allows), the
+inviscid return stands for that step.  Without this a free-surface particle of a dilating slope, held in
+tension by its overstress, drew its neighbours' stretch into it until its density fell to 2 % of rho0 and
+the run blew up (the steep slope, docs/slope-stability.md).
+
 The backend's law loops call ``keep_one`` before the law, the law's ``elastic_predictor`` and ``relax_one``
 after it (backend/cpu_loops.py, backend/cuda_loops.py); ``p_old`` holds the particle's stress (6) and state at
 the step's start.
@@ -41,6 +47,10 @@ def relax_one(s, state, old, trial, r):
     """s = (trial + r s) / (1 + r), state = (old state + r state) / (1 + r): the Duvaut-Lions step with
     r = dt / tau (module docstring), s and state holding the inviscid return on entry."""
     w = 1.0 / (1.0 + r)
+    mean_return = (s[0] + s[1] + s[2]) / 3.0
+    mean = ((trial[0] + trial[1] + trial[2]) / 3.0 + r * mean_return) * w
+    if mean > 0.0 and mean > mean_return:
+        return  # no viscous tension: the inviscid return stands (module docstring)
     for a in range(6):
         s[a] = (trial[a] + r * s[a]) * w
     for k in range(state.shape[0]):

@@ -18,7 +18,7 @@ def last_vtu(run_dir: Path) -> Path | None:
 
 
 def write_mechanism(out: Path, run_dir: Path, title: str, dim: int = 2, cell_size: float = 1.0,
-                    duration: float = 1.0, circle=None) -> list[str]:
+                    duration: float = 1.0, circle=None, vertical: int | None = None) -> list[str]:
     """mechanism.vtu (the failed trial's last VTU: displacement and every state variable, the plastic shear
     strain among them), slip_surface.csv (the band of largest plastic shear strain rate over the trial's last
     quarter: slip.py) and mechanism.png (2D: particles coloured by plastic strain and by displacement, the slip
@@ -34,7 +34,7 @@ def write_mechanism(out: Path, run_dir: Path, title: str, dim: int = 2, cell_siz
     surface = None
     if len(files) >= 2:
         x, rate = slip.plastic_rate(files[-2], src, duration / 4.0)
-        surface = slip.slip_surface(x, rate, dim, cell_size)
+        surface = slip.slip_surface(x, rate, dim, cell_size, vertical=vertical)
         slip.write_csv(out / "slip_surface.csv", surface, dim)
         made.append("slip_surface.csv")
     try:

@@ -19,6 +19,8 @@ import os
 import time
 from pathlib import Path
 
+import numpy as np
+
 from geompm.errors import CaseError
 from geompm.files.atomic import atomic_write_json
 from geompm.files.ownership import holds_only, prepare_folder
@@ -149,7 +151,8 @@ def stability(case, out=None, sets=(), tolerance: float = 0.01, start: float = 1
         summary["mechanism"] = report.write_mechanism(out, Path(first["run_dir"]),
                                                       f"{raw.get('name', '')}: trial at F = {first['factor']:.4f}",
                                                       dim=loaded.case.dimension, cell_size=float(loaded.case.grid.cell_size),
-                                                      duration=duration, circle=circle)
+                                                      duration=duration, circle=circle,
+                                                      vertical=int(np.argmax(np.abs(loaded.case.gravity))))
         summary["mechanism_factor"] = first["factor"]
     atomic_write_json(out / "stability.json", summary)
     summary["folder"] = str(out)

@@ -184,3 +184,25 @@ def griffiths_lane_case(cell_size: float, end: float = 3.0, model: str = "drucke
                        {"type": "wall", "side": "x-", "condition": "slip"}],
         "outputs": [{"writer": "series", "interval": end / 40}],
     }
+
+
+def griffiths_lane_case_3d(cell_size: float, width: float, ends: str = "slip", end: float = 3.0,
+                           model: str = "drucker_prager", friction: float = 20.0, cohesion: float = 1.0e4) -> dict:
+    """griffiths_lane_case's slope extruded ``width`` [m] along z between two end walls: ``ends`` "slip" (smooth:
+    symmetry planes, so the factor is the plane-strain one at any width) or "fixed" (rough, bonded: the ends
+    hold the slide and the factor exceeds the plane-strain one, less so as the slope widens; Griffiths &
+    Marquez 2007, Geotechnique 57(6):537).  Gravity along -y, 2x2x2 particles per cell."""
+    case = griffiths_lane_case(cell_size, end=end, model=model, friction=friction, cohesion=cohesion)
+    case["name"] = f"griffiths_lane_3d_{ends}_{width:g}"
+    case["description"] = (f"Griffiths & Lane (1999) example 1 extruded {width:g} m between {ends} end walls "
+                           "(docs/slope-stability.md, Slopes in 3D)")
+    case["dimension"] = 3
+    grid = case["grid"]
+    grid["origin"] = [0.0, 0.0, 0.0]
+    grid["extent"] = [grid["extent"][0], grid["extent"][1], width]
+    case["gravity"] = [0.0, -9.81, 0.0]
+    body = case["bodies"][0]
+    body["geometry"]["extrude"] = [0.0, width]
+    case["boundaries"] = case["boundaries"] + [{"type": "wall", "side": "z-", "condition": ends},
+                                               {"type": "wall", "side": "z+", "condition": ends}]
+    return case
