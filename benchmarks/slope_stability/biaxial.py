@@ -2,6 +2,8 @@
 several cell sizes, with the softening regularised by the cell size and without.
 
     python benchmarks/slope_stability/biaxial.py OUT_FOLDER [h ...] > biaxial.txt
+    GEOMPM_BIAXIAL_TAU=0.001 python benchmarks/slope_stability/biaxial.py ...   (the laws' viscoplastic time [s])
+    GEOMPM_BIAXIAL_ONLY=plain ...   (only the set whose softening thresholds are strains, not scaled by the cell)
 
 Case: geompm/testing/verification/slopes.biaxial_case (a 1 m x 2 m sample, c softening from 100 to 50 kPa, phi = 0, a weak
 corner, a smooth platen at 0.02 m/s).  Printed: the peak force [N/m] and the force at platen displacements
@@ -11,6 +13,7 @@ finest one's force there.
 
 from __future__ import annotations
 
+import os
 import sys
 import time
 from pathlib import Path
@@ -25,10 +28,13 @@ SPEED = 0.02
 AT = np.array([0.010, 0.012, 0.016, 0.020, 0.025, 0.030])
 
 
+TAU = float(os.environ.get("GEOMPM_BIAXIAL_TAU", "0")) or None
+
+
 def curve(out: Path, h: float, ref: float | None) -> tuple[np.ndarray, np.ndarray, float]:
     t0 = time.perf_counter()
-    run = geompm.run(biaxial_case(h, ref), out=out / f"h{h:g}_{'reg' if ref else 'plain'}", overwrite=True,
-                     progress=False, quiet=True)
+    run = geompm.run(biaxial_case(h, ref, viscoplastic_time=TAU), out=out / f"h{h:g}_{'reg' if ref else 'plain'}",
+                     overwrite=True, progress=False, quiet=True)
     assert run.exit_code == 0, run.exit_code
     s = run.series
     return s["time"] * SPEED, np.asarray(s["platen_fy"]), time.perf_counter() - t0
@@ -38,8 +44,11 @@ def main():
     out = Path(sys.argv[1])
     hs = [float(x) for x in sys.argv[2:]] or [0.2, 0.1, 0.05]
     print(__doc__.strip().splitlines()[0])
-    print("2-core development machine, one run at a time\n")
-    for ref, label in ((0.05, "regularised (reference_cell_size 0.05 m)"), (None, "not regularised")):
+    print(f"2-core development machine, one run at a time; viscoplastic time {TAU or 'none'} s\n")
+    sets = ((0.05, "regularised (reference_cell_size 0.05 m)"), (None, "not regularised"))
+    if os.environ.get("GEOMPM_BIAXIAL_ONLY") == "plain":
+        sets = sets[1:]
+    for ref, label in sets:
         print(label)
         curves = {h: curve(out, h, ref) for h in hs}
         fine = curves[min(hs)]

@@ -121,9 +121,11 @@ def limit_equilibrium(slope: float, friction: float, cohesion: float, depth: flo
     return cohesion / (density * 9.81 * depth * math.cos(b) ** 2 * math.tan(b)) + math.tan(phi) / math.tan(b)
 
 
-def biaxial_case(cell_size: float, reference_cell_size: float | None, end: float = 1.5, speed: float = 0.02) -> dict:
+def biaxial_case(cell_size: float, reference_cell_size: float | None, end: float = 1.5, speed: float = 0.02,
+                 viscoplastic_time: float | None = None) -> dict:
     """Plane-strain compression of a softening sample 1 m wide and 2 m high between a smooth base and a smooth
-    rigid platen moving down at ``speed`` [m/s], sides free, no gravity.  drucker_prager_softening with
+    rigid platen moving down at ``speed`` [m/s], sides free, no gravity; ``viscoplastic_time`` [s]: the laws'
+    Duvaut-Lions time (solver.viscoplastic_time), default none.  drucker_prager_softening with
     phi = psi = 0 (so the strength is c alone): c falls linearly from 100 kPa to 50 kPa between eps_p = 0 and
     0.05 (thresholds of a band ``reference_cell_size`` wide; None: strains at every cell size).  A weaker
     corner (0.2 m x 0.2 m at the bottom left, c peak 90 kPa) seeds the band.  E = 50 MPa, nu = 0.3,
@@ -143,7 +145,8 @@ def biaxial_case(cell_size: float, reference_cell_size: float | None, end: float
         "grid": {"origin": [0.0, 0.0], "extent": [2.0, 2.8], "cell_size": cell_size, "shape_function": "quadratic"},
         "time": {"end": end, "cfl": 0.3},
         "gravity": [0.0, 0.0],
-        "solver": {"transfer": "apic", "update": "usl"},
+        "solver": {"transfer": "apic", "update": "usl",
+                   **({"viscoplastic_time": viscoplastic_time} if viscoplastic_time else {})},
         "materials": {"soil": soil(1.0e5), "weak": soil(9.0e4)},
         "bodies": [{"material": "weak", "geometry": box([0.5, 0.0], [0.7, 0.2]), "particles_per_cell": 2},
                    {"material": "soil", "geometry": box([0.7, 0.0], [1.5, 0.2]), "particles_per_cell": 2},
