@@ -19,9 +19,8 @@ Comput. Methods Appl. Mech. Eng. 83:247).
 
 Granular soil carries no viscous tension: where the relaxed stress would be tensile in the mean and more
 tensile than the inviscid return (a particle at a free surface pulled apart faster than tau allows), the
-inviscid return stands for that step.  Without this a free-surface particle of a dilating slope, held in
-tension by its overstress, drew its neighbours' stretch into it until its density fell to 2 % of rho0 and
-the run blew up (the steep slope, docs/slope-stability.md).
+inviscid return stands for that step (an overstress would otherwise hold a free-surface particle of a
+cohesionless soil in tension).
 
 The backend's law loops call ``keep_one`` before the law, the law's ``elastic_predictor`` and ``relax_one``
 after it (backend/cpu_loops.py, backend/cuda_loops.py); ``p_old`` holds the particle's stress (6) and state at
