@@ -12,11 +12,6 @@ from geompm.files.atomic import atomic_path
 from geompm.stability import slip
 
 
-def last_vtu(run_dir: Path) -> Path | None:
-    files = sorted((run_dir / "particles").glob("particles_*.vtu"))
-    return files[-1] if files else None
-
-
 def write_mechanism(out: Path, run_dir: Path, title: str, dim: int = 2, cell_size: float = 1.0,
                     duration: float = 1.0, circle=None, vertical: int | None = None) -> list[str]:
     """mechanism.vtu (the failed trial's last VTU: displacement and every state variable, the plastic shear

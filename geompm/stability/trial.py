@@ -86,11 +86,17 @@ def viscoplastic_time(loaded, duration: float, given: float | None) -> float | N
     return float(own) if own is not None else duration / VISCOPLASTIC_SHARE
 
 
+def strength_schedule(factor: float, duration: float) -> tuple[list[float], list[float]]:
+    """(times [s], factors) of the trial at ``factor``: F0 for the first quarter, a ramp to F over the second,
+    F held for the second half (module docstring)."""
+    f0 = 1.0 if factor >= 1.0 else max(0.5 * factor, LOWEST_START)
+    return [0.0, 0.25 * duration, 0.5 * duration], [f0, f0, float(factor)]
+
+
 def trial_sets(loaded, factor: float, duration: float, damping: list[dict], relaxation: float | None = None) -> list[str]:
     """The --set overrides of the trial at ``factor``; ``relaxation``: the laws' viscoplastic time [s] or None."""
-    f0 = 1.0 if factor >= 1.0 else max(0.5 * factor, LOWEST_START)
-    trigger = {"strength_reduction": {"times": [0.0, 0.25 * duration, 0.5 * duration],
-                                      "factors": [f0, f0, float(factor)], "materials": reducible_materials(loaded)}}
+    times, factors = strength_schedule(factor, duration)
+    trigger = {"strength_reduction": {"times": times, "factors": factors, "materials": reducible_materials(loaded)}}
     water = loaded.case.triggers.water_table if loaded.case.triggers is not None else None
     if water is not None:
         held = water.model_dump(exclude_none=True)

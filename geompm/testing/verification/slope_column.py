@@ -28,7 +28,7 @@ from numba import njit
 
 from geompm.kernels.viscoplastic import keep_one, relax_one
 from geompm.stability.criterion import judge
-from geompm.stability.trial import LOWEST_START, SERIES_ROWS
+from geompm.stability.trial import SERIES_ROWS, strength_schedule
 
 #: strength levels a ramp is tabulated at (the law's parameters packed once per level)
 LEVELS = 401
@@ -107,12 +107,6 @@ def _run(law, predictor, r, prm_levels, f_levels, times, factors, elements, dept
     return row
 
 
-def schedule(factor: float, duration: float) -> tuple[np.ndarray, np.ndarray]:
-    """(times, factors) of the trial at ``factor`` (stability/trial.trial_sets)."""
-    f0 = 1.0 if factor >= 1.0 else max(0.5 * factor, LOWEST_START)
-    return np.array([0.0, 0.25 * duration, 0.5 * duration]), np.array([f0, f0, float(factor)])
-
-
 def column_series(law_cls, params: dict, factor: float, *, slope: float = 20.0, depth: float = 1.0,
                   elements: int = 100, duration: float = 2.0, damping_rate: float | None = None,
                   cfl: float = 0.4, viscoplastic_time: float | None = None) -> dict:
@@ -122,7 +116,7 @@ def column_series(law_cls, params: dict, factor: float, *, slope: float = 20.0, 
     laws' Duvaut-Lions regularisation as the engine runs it (kernels/viscoplastic.py), default none."""
     p = law_cls.Params(**params)
     rate = 40.0 / duration if damping_rate is None else damping_rate
-    times, factors = schedule(factor, duration)
+    times, factors = (np.array(a, float) for a in strength_schedule(factor, duration))
     f_levels = np.linspace(factors[0], factors[-1], LEVELS if factors[0] != factors[-1] else 1)
     prm_levels = np.array([law_cls(p.model_copy(update=law_cls.strength_reduced(p, float(f)))).prm
                            for f in f_levels])
