@@ -146,6 +146,8 @@ def cmd_info(args) -> int:
                 at = ", ".join(f"{c:.3f}" for c in o["peak_pressure_at"])
                 print(f"hot spot     {name}: face pressure {o['peak_pressure']:.4g} Pa at ({at}) m, "
                       f"t = {o['peak_pressure_time']:.4g} s")
+            for line in impact_lines(name, o, unit):
+                print(line)
     print(f"simulated    t = {float(last['time']):.6g} s of {case['time']['end']:g} s, {last['step']} steps")
     _print_runout(run_dir, case)
     outs = [name for name, present in (("VTU/PVD", (run_dir / "particles.pvd").is_file()),
@@ -162,6 +164,26 @@ def cmd_info(args) -> int:
             print(f"travel       runout {m['runout_length_m']:.4g} m, drop H = {m['drop_height_m']:.4g} m, "
                   f"H/L = {m['drop_height_m'] / m['runout_length_m']:.3f} (travel angle {m['travel_angle_deg']:.3g} deg)")
     return 0
+
+
+def impact_lines(name: str, o: dict, unit: str) -> list[str]:
+    """`geompm info`'s design lines of one obstacle from its status.json entry (contact/impact.py,
+    contact/impact_design.py): nothing before first contact."""
+    if "filtered_peak_force" not in o:
+        return []
+    out = [f"filtered     {name}: peak {o['filtered_peak_force']:.4g} {unit} (moving average over "
+           f"{o['force_window'] * 1e3:.3g} ms, window ending t = {o['filtered_peak_time']:.4g} s; first contact "
+           f"t = {o['first_contact']:.4g} s)",
+           f"impulse      {name}: {o['impulse']:.4g} {unit} s since first contact; load at the end "
+           f"{o['final_force']:.4g} {unit} (window average)"]
+    if "probe_depth" in o:
+        out.append(f"approach     {name}: probe '{o['probe']}' depth h = {o['probe_depth']:.4g} m, speed v = "
+                   f"{o['probe_speed']:.4g} m/s, rho = {o['probe_density']:.4g} kg/m3, width w = "
+                   f"{o['design_width']:.4g} m" + (f", Fr = {o['froude']:.3g}" if "froude" in o else ""))
+    if "hydrostatic_ratio" in o:
+        out.append(f"design       {name}: alpha = F / (rho v^2 h w) = {o['alpha']:.3g} (Kwan 2012: 2.5 rigid); "
+                   f"k = F / (rho g h^2 w / 2) = {o['hydrostatic_ratio']:.3g} (Lichtenhahn 1973: 2.8-4.4)")
+    return out
 
 
 def _print_runout(run_dir: Path, case: dict) -> None:

@@ -25,6 +25,8 @@ from geompm.contract.stages import OBSTACLE as OBSTACLE_PHASE
 from geompm.contract.stages import GridStage, ParticleStage
 from geompm.contact.force import COUNT, DEPTH, FACES_GRID, FACES_GUARD, FORCE_SLOTS, OBSTACLE
 from geompm.contact.face_pressure import face_pressure_step, spread_matrix
+from geompm.contact.impact import ImpactRecord
+from geompm.contact.impact_design import design_report, momentum_flux
 
 
 class ContactForceStage(GridStage, ParticleStage):
@@ -53,6 +55,12 @@ class ContactForceStage(GridStage, ParticleStage):
         self.particles_put_back = 0  # by the guard, over the run
         self.max_depth = 0.0  # deepest penetration the guard corrected [m]
         self.faces = None  # the tessellate.Surface the force is spread on (start_faces), if any
+        self.gravity = np.asarray(scene.gravity, float)
+        self.impact = ImpactRecord(scene.dim, self.params.force_window, scene.end_time)
+        named = self.params.probe
+        self.probe = next((p for p in scene.probes if p.label == named), None) if named else None
+        self.approach = None  # the probe's reading of the largest momentum flux up to a window after first
+        # contact: (depth [m], speed [m/s], density [kg/m3], velocity (d,))
 
     @staticmethod
     def faces_wanted(scene) -> bool:
@@ -78,6 +86,7 @@ class ContactForceStage(GridStage, ParticleStage):
         self.face_pmax = np.zeros(nf)  # running maximum of the normal pressure [Pa]
         self.face_tmax = np.zeros(nf)  # its time [s]
         self.face_p_at_peak = np.zeros(nf)  # the normal pressure at the step of the peak |F| [Pa]
+        self.impact = ImpactRecord(self.dim, self.params.force_window, self.impact.end_time, self.face_area)
 
     def _faces_step(self, out, time):
         """The faces' forces, pressures and running maximum of a step (particle_reduced)."""
@@ -138,6 +147,20 @@ class ContactForceStage(GridStage, ParticleStage):
             self._faces_step(out, time + dt)
             if self.peak[1] == time + dt:
                 self.face_p_at_peak[:] = self.face_pressure
+        self.impact.step(self.force, dt, time, None if self.faces is None else self.face_pressure * self.face_area)
+        if self.probe is not None:
+            self._read_probe(time + dt)
+
+    def _read_probe(self, t):
+        """Keep the probe's reading of the largest momentum flux rho v^2 h from the start to one force window
+        after first contact: the approach flow of the design formulas (a front a few particles thin carries
+        little; the flow backed up from the surface after contact is slow)."""
+        first, window = self.impact.first_contact, self.impact.window
+        if first is not None and t > first + window:
+            return
+        depth, speed, rho = self.probe.reading
+        if self.approach is None or rho * speed * speed * depth > momentum_flux(self.approach):
+            self.approach = (depth, speed, rho, self.probe.velocity.copy())
 
     def supplied_speed(self) -> float:
         return float(np.linalg.norm(self.vel))
@@ -152,6 +175,7 @@ class ContactForceStage(GridStage, ParticleStage):
         names = "xyz"[: self.dim]
         out = {f"{self.label}_f{c}": float(self.force[k]) for k, c in enumerate(names)}
         out[f"{self.label}_fn"] = float(self.fn)
+        out[f"{self.label}_f_filtered"] = float(np.linalg.norm(self.impact.filtered))
         out[f"{self.label}_ft"] = float(self.ft)
         for k, c in enumerate("xyz"):
             if self.dim == 3 or c == "z":
@@ -168,12 +192,19 @@ class ContactForceStage(GridStage, ParticleStage):
         return (f"{self.kind} '{self.label}': peak force {self.peak[0]:.4g} {unit} at t = {self.peak[1]:.4g} s{where}"
                 f"{guard}")
 
+    def impact_report(self) -> dict:
+        """status.json's impact and design entries (contact/impact.py, contact/impact_design.py)."""
+        return design_report(self)
+
     def state_dict(self) -> dict:
         faces = {} if self.faces is None else {"face_pmax": self.face_pmax.tolist(), "face_tmax": self.face_tmax.tolist(),
                                                "face_p_at_peak": self.face_p_at_peak.tolist()}
         return {"peak": list(self.peak), "force": self.force.tolist(), "fn": float(self.fn), "ft": float(self.ft),
                 "moment": np.asarray(self.moment).tolist(),
-                "particles_put_back": self.particles_put_back, "max_depth": self.max_depth, **faces}
+                "particles_put_back": self.particles_put_back, "max_depth": self.max_depth,
+                "impact": self.impact.state_dict(),
+                "approach": None if self.approach is None else [*self.approach[:3], self.approach[3].tolist()],
+                **faces}
 
     def load_state(self, state: dict) -> None:
         self.peak = tuple(state["peak"])
@@ -182,6 +213,11 @@ class ContactForceStage(GridStage, ParticleStage):
         self.moment = np.asarray(state["moment"], float)
         self.particles_put_back = int(state.get("particles_put_back", 0))
         self.max_depth = float(state.get("max_depth", 0.0))
+        if "impact" in state:
+            self.impact.load_state(state["impact"])
+        if state.get("approach") is not None:
+            a = state["approach"]
+            self.approach = (a[0], a[1], a[2], np.asarray(a[3], float))
         if self.faces is not None and "face_pmax" in state:
             self.face_pmax[:] = state["face_pmax"]
             self.face_tmax[:] = state["face_tmax"]

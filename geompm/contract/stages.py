@@ -93,6 +93,16 @@ class Stage(Plugin):
         """(largest |F| [N, N/m in 2D], its time [s]) for stages that take a force, else None."""
         return None
 
+    def refines_with_the_grid(self) -> str:
+        """A sentence when the stage's physics itself changes with the cell size (a rate tied to h), for a
+        study that varies grid.cell_size to warn about; '' otherwise."""
+        return ""
+
+    def impact_report(self) -> dict:
+        """status.json's impact entries (filtered peak, impulse, design coefficients: contact/impact.py) of a
+        stage that records a force, else {}."""
+        return {}
+
     #: the faces its force is spread on (recorded.ContactForceStage.start_faces), None for every other stage
     faces = None
 

@@ -73,6 +73,13 @@ class ArtificialDamping(ParticleStage):
     def particle_blocks(self, nblocks):
         return [k for k in range(nblocks) if self.zeta[k] > 0.0]
 
+    def refines_with_the_grid(self) -> str:
+        if self.params.reference_cell_size is not None:
+            return ""
+        return (f"{self.json_path}: the damping rate xi/h sqrt(E/rho) doubles at each halving of the cell size, so "
+                "the variants damp the flow differently (a flow to a barrier slows as h falls); set "
+                "\"reference_cell_size\" to fix the rate (docs/impact-forces.md)")
+
     def particle_reach(self, prm, lo, hi):
         return lo, hi  # velocities only: the particles stay where they are
 

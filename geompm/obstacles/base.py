@@ -22,6 +22,7 @@ from numba import njit
 from pydantic import Field
 
 from geompm.errors import CaseError
+from geompm.contact.impact_params import ImpactParams
 from geompm.contract.plugin import Params, vector_length_problems
 from geompm.mpm.memory import require_memory
 from geompm.contact.force import FACES_GRID, OBSTACLE, contact_and_record, record_on_face
@@ -32,7 +33,7 @@ from geompm.contact.sdf_field import face_lattice_ids, interp_field, lattice_byt
 O = OBSTACLE
 
 
-class ObstacleParams(Params):
+class ObstacleParams(ImpactParams):
     condition: Literal["slip", "fixed", "friction"] = Field("friction", description="Contact condition")
     friction: float = Field(0.0, ge=0.0, description="Coulomb coefficient mu [-] (condition 'friction')")
     velocity: list[float] | None = Field(None, description="Prescribed translational velocity [m/s]")

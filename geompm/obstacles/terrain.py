@@ -38,7 +38,7 @@ from pydantic import Field
 from geompm.errors import CaseError
 from geompm.files.atomic import case_relative, unreadable_file
 from geompm.contract.layout import param_layout
-from geompm.contract.plugin import Params
+from geompm.contact.impact_params import ImpactParams
 from geompm.contract.stages import FAR_NODE
 from geompm.contact.force import COUNT, DEPTH, FACES_GRID, FACES_GUARD, OBSTACLE, contact_and_record
 from geompm.files.dem import bilinear, read_dem
@@ -53,7 +53,7 @@ O_LAYER = OBSTACLE.layer
 PROJECTIONS = 3  # tangent-plane steps of the signed distance
 
 
-class TerrainParams(Params):
+class TerrainParams(ImpactParams):
     dem: str = Field(description="DEM file relative to the case file (GeoTIFF, ESRI ASCII grid), heights [m]")
     clip: list[list[float]] | None = Field(
         None, description="[[xmin, ymin], [xmax, ymax]] in map coordinates [m]: use only this part of the DEM")

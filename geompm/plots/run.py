@@ -68,6 +68,15 @@ def plot_obstacle_forces(series_csv: str | Path, png: str | Path, title: str = "
         late = t > 0.5 * (data["time"][0] + data["time"][-1])
         ax.annotate(f"peak |F| {f:.4g} {unit} at {t:.3g} s ({how})", (t, f), textcoords="offset points",
                     xytext=(-12 if late else 12, -14), ha="right" if late else "left")
+        if f"{name}_f_filtered" in data.dtype.names:
+            ax.plot(data["time"], data[f"{name}_f_filtered"], lw=1.8, color="k", alpha=0.7,
+                    label=f"{name} |F| averaged over the force window")
+        if peak is not None and "filtered_peak_force" in peak:
+            fw, tw = float(peak["filtered_peak_force"]), float(peak["filtered_peak_time"])
+            ax.plot([tw], [fw], "s", color="k")
+            ax.annotate(f"filtered peak {fw:.4g} {unit} ({1e3 * float(peak['force_window']):.3g} ms window)",
+                        (tw, fw), textcoords="offset points", xytext=(-12 if late else 12, 8),
+                        ha="right" if late else "left")
     ax.set_xlabel("time [s]")
     ax.set_ylabel(f"force on the obstacle [{unit}]")
     ax.set_title(title or Path(series_csv).parent.name)
@@ -181,4 +190,7 @@ def plot_run(run_dir: str | Path, out_dir: str | Path | None = None) -> list[Pat
     from geompm.plots.pressure import PNG_NAME, plot_pressures
 
     pressure = plot_pressures(run_dir, out / PNG_NAME, run_dir.name)
-    return made + ([pressure] if pressure is not None else [])
+    from geompm.plots.impact import plot_impact
+
+    impact = plot_impact(peaks, out / "impact.png", run_dir.name, dim)
+    return made + [p for p in (pressure, impact) if p is not None]

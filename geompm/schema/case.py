@@ -433,6 +433,18 @@ class BodySpec(Strict):
 NAME_PATTERN = r"^[A-Za-z0-9_\-][A-Za-z0-9_.\-]*$"  # names a folder: never '.', '..' or hidden
 
 
+class ProbeSpec(Strict):
+    """A column of the flow measured every step (probes/section.py): depth, speed, discharge."""
+
+    name: str = Field(pattern=NAME_PATTERN, description="Name: series.csv columns <name>_depth [m], <name>_speed "
+                                                        "[m/s], <name>_q [m2/s]; an obstacle's 'probe' names it")
+    point: Vector = Field(description="A point on the column's axis [m], e.g. on the bed upstream of a barrier")
+    half_width: float = Field(gt=0, description="Half-width of the strip (2D) or radius of the cylinder (3D) "
+                                                "around the axis [m]; about one or two cells")
+    direction: Vector | None = Field(None, description="The axis, along which the depth is measured (e.g. the bed "
+                                                       "normal); default against gravity")
+
+
 class StrengthReductionSpec(Strict):
     times: list[float] = Field(min_length=1, max_length=1000,
                                description="Times [s] of the schedule's points, non-decreasing")
@@ -552,6 +564,8 @@ class Case(Strict):
     boundaries: list[PluginSpec] = Field(default_factory=list)
     obstacles: list[PluginSpec] = Field(default_factory=list)
     damping: list[DampingSpec] = Field(default_factory=list)
+    probes: list[ProbeSpec] = Field(default_factory=list, description="Columns of the flow measured every step "
+                                                                       "(depth, speed, discharge)")
     outputs: list[OutputSpec] = Field(default_factory=list)
     run: RunSpec = Field(default_factory=RunSpec)
     triggers: TriggersSpec | None = Field(None, description="What changes over the run to take a slope to failure "

@@ -376,6 +376,7 @@ def _parse_valid_numbers(raw: dict, base_dir: Path) -> LoadedCase:
     loaded = LoadedCase(case=case, base_dir=base_dir, raw=raw, warnings=ineffective_settings(raw, case))
     _plugin_pass(raw, case, loaded, problems)
     problems.extend(duplicate_labels(loaded))
+    problems.extend(probe_problems(case, loaded))
     problems.extend(pore_water_problems(case, loaded))
     problems.extend(trigger_problems(case, loaded))
     loaded.scheme, why = resolve_scheme(case)
@@ -442,6 +443,38 @@ def duplicate_labels(loaded) -> list[tuple[str, str]]:
                         "checkpoint state would overwrite each other; give each a distinct \"name\""))
         else:
             seen[r.label] = r.path
+    return out
+
+
+def probe_problems(case: Case, loaded) -> list[tuple[str, str]]:
+    """Probes' vectors, names (distinct from each other and from every stage's label) and the probes that
+    contact surfaces name."""
+    out = []
+    labels = {r.label: r.path for r in loaded.boundaries + loaded.obstacles + loaded.damping}
+    names = {}
+    for i, pr in enumerate(case.probes):
+        path = f"probes.{i}"
+        for key in ("point", "direction"):
+            v = getattr(pr, key)
+            if v is not None and len(v) != case.dimension:
+                out.append((f"{path}.{key}", f"must have {case.dimension} entries (one per dimension)"))
+        if pr.direction is not None and not any(abs(c) > 0 for c in pr.direction):
+            out.append((f"{path}.direction", "must not be the zero vector"))
+        if pr.direction is None and not any(abs(c) > 0 for c in case.gravity):
+            out.append((f"{path}.direction", "gravity is zero: give the column's axis, e.g. the bed normal"))
+        if pr.name in names or pr.name in labels:
+            out.append((f"{path}.name", f"'{pr.name}' is already used by {names.get(pr.name) or labels[pr.name]}: "
+                                        "series columns would overwrite each other; give the probe a distinct name"))
+        names.setdefault(pr.name, path)
+    for r in loaded.obstacles:
+        want = getattr(r.params, "probe", None)
+        if want is not None and want not in names:
+            known = ", ".join(f"'{n}'" for n in names) or "none"
+            out.append((f"{r.path}.probe", f"no probe named '{want}' (probes: {known}); add it to \"probes\" "
+                                           "or remove \"probe\""))
+    if case.probes and case.solver.backend != "cpu":
+        out.append(("probes", f"probes run on the CPU backend only (solver.backend is '{case.solver.backend}'); "
+                              "remove them or use \"cpu\""))
     return out
 
 

@@ -15,6 +15,7 @@ import numpy as np
 from geompm.mpm.grid import GridSpec
 from geompm.mpm.state import ParticleState
 from geompm.errors import CaseError
+from geompm.probes.section import ProbeStage
 from geompm.setup.bodies import overlap_problems, seed_body
 from geompm.files.dem import read_dem
 from geompm.mpm.phreatic_surface import (LatticeSurface, PolylineSurface, lattice_points, table_warnings,
@@ -57,6 +58,7 @@ class Scene:
     boundaries: list = field(default_factory=list)
     obstacles: list = field(default_factory=list)
     damping: list = field(default_factory=list)
+    probes: list = field(default_factory=list)  # probes/section.ProbeStage, in the case's order
     writers: list = field(default_factory=list)
     body_materials: list = field(default_factory=list)  # the material name of each body, in case order
     crs: str | None = None  # the case's coordinate reference system ("EPSG:2056"), if it states one
@@ -78,7 +80,7 @@ class Scene:
         case's order (the scheduler sorts them by phase, stably).  Read capabilities from this list
         (``Stage.records_force``, ``supplies_energy``, ``provides_ground``), never by the section a stage
         came from."""
-        return [*self.boundaries, *self.obstacles, *self.damping]
+        return [*self.boundaries, *self.obstacles, *self.damping, *self.probes]
 
 
 def _body_velocity(body, pts, dim):
@@ -251,6 +253,10 @@ def assemble(loaded: LoadedCase) -> Scene:
     )
     for r, spec in zip(loaded.outputs, loaded.case.outputs):  # first: a stage asks what they need (face forces)
         scene.writers.append(r.cls(r.params, spec.interval))
+    for i, spec in enumerate(case.probes):  # first: a contact surface reads the probe it names
+        probe = ProbeStage(spec, spec.name, f"probes.{i}")
+        probe.setup(scene)
+        scene.probes.append(probe)
     for attr in ("boundaries", "obstacles", "damping"):
         for r in getattr(loaded, attr):
             stage = r.cls(r.params, r.label, r.path)

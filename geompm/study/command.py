@@ -26,6 +26,8 @@ from geompm.study.execute import Pool, add_threads_option, check_threads, finish
 from geompm.study.plan import build_plan, parse_sample, parse_vary
 
 SCALARS = ("runout", "height", "peak_force", "impulse")
+#: what a study reports per obstacle (``--metric impact`` asks for all of them)
+OBSTACLE_SCALARS = ("peak_force", "filtered_peak_force", "impulse", "final_force", "alpha", "hydrostatic_ratio")
 
 
 def add_parser(sub) -> None:
@@ -39,7 +41,8 @@ def add_parser(sub) -> None:
     p.add_argument("--seed", type=int, default=0, help="random seed for --sample (default 0)")
     p.add_argument("--metric", action="append", default=[], metavar="NAME",
                    help="runout, runout:body<b> or runout:<material> (cases with several bodies or materials), "
-                        "peak_force, impulse, or a series.csv column (front_x, kinetic_energy, X_star, ...)")
+                        "peak_force, filtered_peak_force, impulse, final_force, alpha, hydrostatic_ratio (each "
+                        "per obstacle, or NAME:LABEL), impact (all of these), or a series.csv column (front_x, kinetic_energy, X_star, ...)")
     p.add_argument("--reference", help="'finest' (default with --vary), a run folder, or a CSV with a time column")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="override for every variant")
     p.add_argument("--out", help="study folder (default studies/<case name>)")
@@ -69,21 +72,26 @@ def _variant_label(v) -> str:
     return f"variant {v.name} ({', '.join(v.sets)})" if v.values else f"variant {v.name}"
 
 
-def validate_all(case: str, variants, common: list[str]) -> None:
+def validate_all(case: str, variants, common: list[str]) -> list[str]:
     """Every variant through all the case checks (schema, plugins, assembly); one CaseError listing all
-    problems, before any run."""
+    problems, before any run.  Returns the warnings of stages whose physics changes with the cell size
+    (Stage.refines_with_the_grid) when the variants differ in it."""
     from geompm.engine.first_step import check_output_intervals
     from geompm.setup.assemble import assemble
 
-    problems = []
+    problems, warnings, sizes = [], {}, set()
     for v in variants:
         try:
             loaded = load_case(case, common + v.sets)
-            check_output_intervals(assemble(loaded), loaded.case.outputs)
+            scene = assemble(loaded)
+            check_output_intervals(scene, loaded.case.outputs)
+            sizes.add(scene.grid.h)
+            warnings.update(dict.fromkeys(w for s in scene.stages if (w := s.refines_with_the_grid())))
         except CaseError as exc:
             problems += [(f"{_variant_label(v)}: {path}", msg) for path, msg in exc.problems]
     if problems:
         raise CaseError(problems)
+    return list(warnings) if len(sizes) > 1 else []
 
 
 def load_reference(spec: str | None, has_vary: bool):
@@ -109,7 +117,7 @@ def _metric_names(requested: list[str], series_list) -> tuple[list[str], list[st
     """(scalar metric names, series columns) to report."""
     cols = set().union(*[set(s) for s in series_list if s is not None]) if series_list else set()
     labels = sorted({lab for s in series_list if s is not None for lab in M.obstacle_labels(s)})
-    wanted = requested or ["runout", "height", "peak_force", "impulse", *M.SERIES_DEFAULT]
+    wanted = requested or ["runout", "height", "peak_force", "filtered_peak_force", "impulse", *M.SERIES_DEFAULT]
     scalars, columns = [], []
     fronts = sorted({c[len("front_x_"):] for s in series_list if s is not None
                      for c in s if c.startswith("front_x_")})
@@ -123,10 +131,12 @@ def _metric_names(requested: list[str], series_list) -> tuple[list[str], list[st
         elif name == "height":
             if any(s is not None and "deposit_height" in s for s in series_list):
                 scalars.append("height")
-        elif name in ("peak_force", "impulse"):
+        elif name == "impact":  # the barrier's design numbers: every obstacle metric of each obstacle
+            scalars += [f"{key}:{lab}" for lab in labels for key in OBSTACLE_SCALARS]
+        elif name in OBSTACLE_SCALARS:
             scalars += [f"{name}:{lab}" for lab in labels]
-        elif name.partition(":")[0] in ("peak_force", "impulse") and name.partition(":")[2] in labels:
-            scalars.append(name)  # one obstacle's: peak_force:LABEL, impulse:LABEL
+        elif name.partition(":")[0] in OBSTACLE_SCALARS and name.partition(":")[2] in labels:
+            scalars.append(name)  # one obstacle's: peak_force:LABEL, impulse:LABEL, alpha:LABEL ...
         elif name in cols or name in M.SERIES_DEFAULT:
             columns.append(name)
     return scalars, columns
@@ -185,7 +195,8 @@ def cmd_study(args) -> int:
     vary, samples = parse_vary(args.vary), parse_sample(args.sample)
     variants = build_plan(vary, samples, args.samples, args.seed)
     common = list(args.set) + ([] if args.keep_outputs else series_only(apply_overrides(raw, args.set)))
-    validate_all(case, variants, common)
+    for line in validate_all(case, variants, common):
+        print(f"warning: {line}", file=sys.stderr)
     reference = load_reference(args.reference, bool(vary))
     out = Path(args.out or Path("studies") / raw.get("name", Path(case).stem))
     _prepare_folder(out, args)
@@ -231,16 +242,19 @@ def cmd_study(args) -> int:
     except ImportError:
         made = False
         print("study.png not drawn: install matplotlib (python -m pip install 'geompm[plot]')")
-    _print_summary(rows, summary, errs, out, made)
+    _print_summary(rows, summary, errs, out, made, scalar_names)
     return 0 if summary["finished"] == len(rows) else 3
 
 
-def _print_summary(rows, summary, errs, out: Path, made: bool) -> None:
+def _print_summary(rows, summary, errs, out: Path, made: bool, scalars=()) -> None:
     print(f"{summary['finished']} of {summary['variants']} variants finished; reference: {summary['reference']}")
     for r in rows:
         e = "  ".join(f"{n}={r[n]:.3g}" for n in errs if isinstance(r.get(n), float) and math.isfinite(r[n]))
         wall = f"{r['wall_seconds']:.1f} s" if r.get("wall_seconds") is not None else "-"
         print(f"  {r['variant']}  {r['status'][:60]:<10}  {wall:>9}  {e}")
+        values = "  ".join(f"{n}={r[n]:.5g}" for n in scalars if isinstance(r.get(n), float) and math.isfinite(r[n]))
+        if values:
+            print(f"         {r.get('label', '')}: {values}")
     for o in summary["orders"]:
         group = ", ".join(f"{k}={v}" for k, v in o["group"].items())
         print(f"observed order of convergence{' (' + group + ')' if group else ''}, h = {o['cell_sizes']}:")

@@ -12,8 +12,16 @@ Scalar metrics (one number per run):
   thickness, averaged over a window as wide as the threshold), when written;
 - ``peak_force:LABEL``: the largest |F| [N; N/m in 2D] on obstacle LABEL, taken
   every step (status.json), not only at output times;
-- ``impulse:LABEL``: the integral of |F| over the run [N s; N s/m in 2D],
-  trapezoid rule over the series.csv rows.
+- ``impulse:LABEL``: the integral of |F| from first contact to the end [N s;
+  N s/m in 2D], summed over every step (status.json; before it was recorded
+  there, the trapezoid rule over the series.csv rows);
+- ``filtered_peak_force:LABEL``: the peak of the force averaged over the
+  obstacle's force window (contact/impact.py) [N; N/m in 2D];
+- ``final_force:LABEL``: the window-averaged force at the end, the deposit's
+  static load [N; N/m in 2D];
+- ``alpha:LABEL``, ``hydrostatic_ratio:LABEL``: the filtered peak as the
+  hydrodynamic and hydrostatic coefficients of the approach flow its probe
+  measured (contact/impact_design.py) [-].
 
 Time-series metrics: ``front_x``, ``kinetic_energy`` and any other series.csv
 column (``X_star``, ``K_star``, ...).  Their error is the relative L2 norm
@@ -35,6 +43,8 @@ import numpy as np
 from geompm.writers.series import read_series
 
 SERIES_DEFAULT = ("front_x", "kinetic_energy")
+#: status.json's impact entries that a study can ask for per obstacle (contact/impact.py, impact_design.py)
+IMPACT_METRICS = ("filtered_peak_force", "final_force", "alpha", "hydrostatic_ratio")
 
 
 def obstacle_labels(series: dict) -> list[str]:
@@ -81,8 +91,12 @@ def scalar_metrics(series: dict, status: dict | None = None) -> dict[str, float]
     peaks = (status or {}).get("obstacles", {})
     for label in obstacle_labels(series):
         f = force_magnitude(series, label)
-        out[f"peak_force:{label}"] = float(peaks[label]["peak_force"]) if label in peaks else float(f.max())
-        out[f"impulse:{label}"] = _integral(f, series["time"])
+        mine = peaks.get(label, {})
+        out[f"peak_force:{label}"] = float(mine["peak_force"]) if "peak_force" in mine else float(f.max())
+        out[f"impulse:{label}"] = float(mine["impulse"]) if "impulse" in mine else _integral(f, series["time"])
+        for key in IMPACT_METRICS:
+            if key in mine:
+                out[f"{key}:{label}"] = float(mine[key])
     return out
 
 

@@ -24,7 +24,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("files",),
     ("parallel",),
     ("materials", "damping", "contact"),
-    ("boundaries", "obstacles"),
+    ("boundaries", "obstacles", "probes"),
     ("backend",),
     ("schemes",),
     ("writers",),

@@ -1,0 +1,1 @@
+"""Probes: what a case measures at a place in the flow each step (depth, speed, discharge)."""
