@@ -176,6 +176,9 @@ def impact_lines(name: str, o: dict, unit: str) -> list[str]:
            f"t = {o['first_contact']:.4g} s)",
            f"impulse      {name}: {o['impulse']:.4g} {unit} s since first contact; load at the end "
            f"{o['final_force']:.4g} {unit} (window average)"]
+    if "pressure_centre_height" in o:
+        out.append(f"profile      {name}: {len(o['pressure_profile'])} bands of pressure over the height at the filtered "
+                   f"peak, resultant {o['pressure_centre_height']:.3g} m above the lowest loaded face")
     if "probe_depth" in o:
         out.append(f"approach     {name}: probe '{o['probe']}' depth h = {o['probe_depth']:.4g} m, speed v = "
                    f"{o['probe_speed']:.4g} m/s, rho = {o['probe_density']:.4g} kg/m3, width w = "

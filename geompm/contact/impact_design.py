@@ -17,7 +17,8 @@ force F (contact/impact.py):
 The width w (3D) is ``design_width`` or the extent of the surface across the flow: the horizontal
 direction normal to the probe's velocity.  The pressure profile is the normal pressure of the faces
 averaged over the filtered peak's window, in bins one cell high over the surface's height (along
--gravity), each the area-weighted mean of the faces loaded in it.
+-gravity) from the lowest loaded face centre (the bed, for a wall standing in it), each the area-weighted
+mean of the faces loaded in it; its resultant acts at ``pressure_centre_height`` above that face.
 """
 
 from __future__ import annotations
@@ -48,19 +49,24 @@ def across_width(stage, velocity) -> float | None:
     return float(proj.max() - proj.min())
 
 
-def pressure_profile(stage) -> list[list[float]]:
-    """[[height above the surface's lowest face centre [m], pressure [Pa]], ...] at the filtered peak."""
+def _heights(stage):
+    """(height of each face centre along -gravity [m], normal pressures at the filtered peak [Pa], loaded
+    faces) with heights measured from the lowest loaded face centre (the bed, where the surface stands in it)."""
     p = stage.impact.face_pressure_at_peak
-    if p is None or stage.faces is None:
-        return []
     up = -stage.gravity / np.linalg.norm(stage.gravity)
     z = stage.face_centre[:, :stage.dim] @ up[:stage.dim]
-    h = stage.grid.h
     loaded = p > 0.0
-    if not loaded.any():
+    return z - z[loaded].min(), p, loaded
+
+
+def pressure_profile(stage) -> list[list[float]]:
+    """[[height above the lowest loaded face centre [m], pressure [Pa]], ...] at the filtered peak."""
+    p = stage.impact.face_pressure_at_peak
+    if p is None or stage.faces is None or not stage.gravity.any() or not (p > 0.0).any():  # no load, no height
         return []
-    z0 = z.min()
-    bins = np.floor((z - z0) / h).astype(int)
+    z, p, loaded = _heights(stage)
+    h = stage.grid.h
+    bins = np.floor(z / h).astype(int)
     out = []
     for b in range(int(bins[loaded].max()) + 1):
         sel = loaded & (bins == b)
@@ -70,15 +76,24 @@ def pressure_profile(stage) -> list[list[float]]:
     return out
 
 
+def pressure_centre(stage) -> float:
+    """Height [m] above the lowest loaded face centre of the resultant of the normal pressures at the
+    filtered peak (the point of action that an overturning check needs)."""
+    z, p, loaded = _heights(stage)
+    force = np.where(loaded, p, 0.0) * stage.face_area
+    return float((force * z).sum() / force.sum())
+
+
 def design_report(stage) -> dict:
     """The impact quantities (ImpactRecord.report), the approach flow read by the probe at first contact and
     the equivalent coefficients; {} before first contact."""
     out = stage.impact.report()
     if not out:
         return out
-    profile = pressure_profile(stage)
+    profile = pressure_profile(stage)  # [] without faces or without gravity
     if profile:
         out["pressure_profile"] = profile
+        out["pressure_centre_height"] = pressure_centre(stage)
     if stage.approach is None:
         return out
     depth, speed, rho, vel = stage.approach

@@ -32,7 +32,7 @@ def plot_impact(obstacles: dict, png: Path, title: str = "", dim: int = 3) -> Pa
             ax.axvline(rho * v * v / 1e3, ls=":", color="C2", label="rho v^2 (alpha = 1)")
             lines.append(f"h = {h:.3g} m, v = {v:.3g} m/s: alpha = {o['alpha']:.3g}, k = {o['hydrostatic_ratio']:.3g}")
         ax.set_xlabel("normal pressure [kPa]")
-        ax.set_ylabel("height above the surface's lowest face [m]")
+        ax.set_ylabel("height above the lowest loaded face [m]")
         ax.set_title(f"{name}: " + "\n".join(lines), fontsize=8)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)

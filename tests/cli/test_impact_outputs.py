@@ -59,6 +59,7 @@ def test_status_holds_the_design_numbers(surge_run):
     assert o["hydrostatic_ratio"] == pytest.approx(o["filtered_peak_force"] / (0.5 * rho * 9.81 * h * h), rel=1e-12)
     assert o["impulse"] >= o["impulse_vector"][0] > 0
     assert o["pressure_profile"] and all(p >= 0 for _, p in o["pressure_profile"])
+    assert 0.0 < o["pressure_centre_height"] < 0.1  # the 0.1 m block loads the wall's lowest tenth of a metre
 
 
 def test_info_and_plot_show_them(surge_run, capsys):

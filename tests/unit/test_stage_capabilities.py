@@ -77,7 +77,9 @@ def test_a_third_party_moving_boundary_is_read_by_its_capabilities(piston_plugin
     assert peak > 0.0 and 0.0 < when <= 0.05 and peak >= f_rows.max() * (1 - 1e-12)
     metrics = scalar_metrics(series, status)
     assert metrics["peak_force:piston"] == peak
-    assert metrics["impulse:piston"] == pytest.approx(float(np.sum(0.5 * (f_rows[1:] + f_rows[:-1]) * np.diff(series["time"]))), rel=1e-12)
+    # the impulse is summed over every step by the stage (contact/impact.py), not over the series rows
+    entry = status["obstacles"]["piston"]
+    assert metrics["impulse:piston"] == entry["impulse"] >= np.linalg.norm(entry["impulse_vector"]) > 0.0
     capsys.readouterr()
     assert main(["info", str(run.folder)]) == 0
     assert "piston" in capsys.readouterr().out
