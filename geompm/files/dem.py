@@ -18,6 +18,11 @@ import numpy as np
 from geompm.errors import CaseError
 from geompm.kernels.lattice import bilinear, heights  # noqa: F401 (bilinear: the terrain's import)
 
+#: heights [m] at or below this are a void value, whatever the raster's tags say
+VOID_BELOW = -1000.0
+#: a height this many reliefs below the region's 1 % height (and 100 m below it at least) is a void value
+VOID_RELIEF = 10.0
+
 
 @dataclass
 class Dem:
@@ -54,6 +59,8 @@ def read_dem(path, where: str, region=None, nodata_as: float | None = None) -> D
         if t.b != 0.0 or t.d != 0.0:
             raise CaseError([(where, f"the DEM '{path}' is rotated (affine terms b = {t.b}, d = {t.d}); "
                                      "warp it north-up first (gdalwarp)")])
+        if src.crs is not None and src.crs.is_geographic:
+            raise CaseError([(where, geographic_problem(path, src))])
         band = src.read(1, masked=True).astype(float)
         crs = src.crs.to_string() if src.crs else None
         transform = tuple(t)[:6]
@@ -78,6 +85,15 @@ def read_dem(path, where: str, region=None, nodata_as: float | None = None) -> D
         xs, ys, z = xs[ix[0]:ix[-1] + 1], ys[iy[0]:iy[-1] + 1], z[ix[0]:ix[-1] + 1, iy[0]:iy[-1] + 1]
     if nodata_as is not None:
         z = np.where(np.isfinite(z), z, nodata_as)
+    if nodata_as is None:
+        void = untagged_voids(z)
+        if void is not None:
+            i, j = void[0]
+            raise CaseError([(where, f"the DEM '{path}' has {len(void)} cell(s) whose height can only be a void value "
+                                     f"that the file does not tag as NoData, the first at x = {xs[i]:.3f}, y = "
+                                     f"{ys[j]:.3f} (map coordinates) with {z[i, j]:.6g} m: tag it (gdal_edit.py "
+                                     f"-a_nodata {z[i, j]:.6g} FILE) and fill the voids (gdal_fillnodata), or clip them "
+                                     "away")])
     bad = np.argwhere(~np.isfinite(z))
     if len(bad):
         i, j = bad[0]
@@ -85,3 +101,25 @@ def read_dem(path, where: str, region=None, nodata_as: float | None = None) -> D
                                  f"first at x = {xs[i]:.3f}, y = {ys[j]:.3f} (map coordinates): fill them (gdal_fillnodata) "
                                  "or shrink the grid / 'clip' to avoid them")])
     return Dem(np.ascontiguousarray(z), float(xs[0]), float(ys[0]), float(abs(t.a)), float(abs(t.e)), crs, transform)
+
+
+def untagged_voids(z: np.ndarray):
+    """Indices (k, 2) of the finite heights that can only be void values (VOID_BELOW, VOID_RELIEF), or None."""
+    finite = np.isfinite(z)
+    if not finite.any():
+        return None
+    low, high = np.percentile(z[finite], [1.0, 99.0])
+    far_below = low - max(VOID_RELIEF * (high - low), 100.0)
+    bad = np.argwhere(finite & ((z <= VOID_BELOW) | (z < far_below)))
+    return bad if len(bad) else None
+
+
+def geographic_problem(path, src) -> str:
+    """The message for a DEM in degrees, with the UTM zone of its centre to warp it to."""
+    b = src.bounds
+    lon, lat = 0.5 * (b.left + b.right), 0.5 * (b.bottom + b.top)
+    zone = int(math.floor((lon + 180.0) / 6.0)) % 60 + 1
+    epsg = (32600 if lat >= 0 else 32700) + zone
+    return (f"the DEM '{path}' is in a geographic CRS ({src.crs.to_string()}: degrees of longitude and latitude), "
+            f"but geompm works in metres: warp it to a projected CRS first, e.g. the UTM zone of its centre "
+            f"(gdalwarp -t_srs EPSG:{epsg} {path} dem_utm.tif), and give the case's coordinates in it")

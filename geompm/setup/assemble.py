@@ -16,6 +16,8 @@ from geompm.mpm.grid import GridSpec
 from geompm.mpm.state import ParticleState
 from geompm.errors import CaseError
 from geompm.probes.section import ProbeStage
+from geompm.setup.release import Release
+from geompm.setup.release_checks import release_checks
 from geompm.setup.bodies import overlap_problems, seed_body
 from geompm.files.dem import read_dem
 from geompm.mpm.phreatic_surface import (LatticeSurface, PolylineSurface, lattice_points, table_warnings,
@@ -179,7 +181,13 @@ def assemble(loaded: LoadedCase) -> Scene:
         mat = materials[mid]
         ppc = body.particles_per_cell
         pts, contains = seed_body(body.geometry, dim, origin, h, ppc, loaded.base_dir, f"bodies.{b}.geometry",
-                                  grid.upper)
+                                  grid.upper, case.crs)
+        if isinstance(contains, Release):  # a release from GIS files: its volume, depth and resolution
+            bad, warn = release_checks(contains, contains.lo, contains.hi, origin, grid.upper, h,
+                                       f"bodies.{b}.geometry")
+            if bad:
+                raise CaseError(bad, warnings=loaded.warnings)
+            loaded.warnings.extend(warn)
         tests.append(contains)
         vol = (h / ppc) ** dim
         xs.append(pts)

@@ -35,7 +35,7 @@ def lattice(lo, hi, origin, h, ppc) -> np.ndarray:
     return np.stack([m.ravel() for m in mesh], axis=1)
 
 
-def body_region(geom, dim, base_dir: Path, json_path: str, grid=None):
+def body_region(geom, dim, base_dir: Path, json_path: str, grid=None, crs: str | None = None):
     """(lo, hi, contains) of a body geometry: its bounding box and a point-membership test; with ``grid``
     (origin, upper corner, cell size) a mesh's size is checked against it (mesh_size_problem)."""
     if geom.type == "box":
@@ -53,7 +53,7 @@ def body_region(geom, dim, base_dir: Path, json_path: str, grid=None):
     if geom.type in RELEASE_TYPES:
         from geompm.setup.release import release_region
 
-        return release_region(geom, base_dir, json_path)
+        return release_region(geom, base_dir, json_path, crs)
     mesh = load_surface_mesh(case_relative(base_dir, geom.file), geom.scale, geom.translate, json_path + ".file")
     if grid is not None:
         problem = mesh_size_problem(mesh, grid[0], grid[1], grid[2], json_path, geom.scale)
@@ -63,10 +63,10 @@ def body_region(geom, dim, base_dir: Path, json_path: str, grid=None):
     return lo, hi, lambda pts: mesh_signed_distance(mesh, pts) < 0.0
 
 
-def seed_body(geom, dim, origin, h, ppc, base_dir: Path, json_path: str, upper=None):
+def seed_body(geom, dim, origin, h, ppc, base_dir: Path, json_path: str, upper=None, crs: str | None = None):
     """Particle positions (m, dim) of one body's geometry and its membership test; with ``upper`` (the
     grid's upper corner) the seeding box is clipped to the grid."""
-    lo, hi, contains = body_region(geom, dim, base_dir, json_path, None if upper is None else (origin, upper, h))
+    lo, hi, contains = body_region(geom, dim, base_dir, json_path, None if upper is None else (origin, upper, h), crs)
     if upper is not None:
         lo, hi = np.maximum(lo, origin), np.minimum(hi, upper)
     points = float(np.prod(np.maximum(np.ceil((np.asarray(hi) - np.asarray(lo)) / h * ppc) + 1, 0.0)))
