@@ -43,17 +43,22 @@ def cmd_validate(args) -> int:
     from geompm.backend.timestep import below_dt_min
     from geompm.engine.first_step import first_step_estimate, fixed_step_problem, stage_warnings, viscous_warning
 
+    from geompm.mpm.memory import peak_rss
+
     loaded, scene = _load(args)
     problem = fixed_step_problem(scene)
     if problem:
         raise CaseError([problem], warnings=loaded.warnings)
     mem, nodes, dt = first_step_estimate(scene)
+    held = peak_rss()  # the scene seeded, the laws' first loops compiled: what a run starts from
     cells = int(scene.grid.ncells.prod())
     print(f"case '{scene.name}' is valid: {scene.dim}D, {scene.state.n} particles, "
           f"{cells} grid cells ({'x'.join(str(c) for c in scene.grid.ncells)}, h = {scene.grid.h:g} m), "
           f"~{nodes} active nodes")
     steps = f"~{scene.end_time / dt:.0f} steps" if dt > 0.0 else "no step can be taken"
-    print(f"estimated memory {mem / 2**20:.1f} MiB, first time step {dt:.3g} s, {steps} to t = {scene.end_time:g} s")
+    print(f"estimated memory {mem / 2**20:.1f} MiB for the run's arrays; this check held {held / 2**20:.0f} MiB with "
+          f"the scene seeded (a run peaks 0-20 % above it: docs/terrain.md); first time step {dt:.3g} s, "
+          f"{steps} to t = {scene.end_time:g} s")
     if below_dt_min(scene, dt):
         print(f"warning: the first time step is below time.dt_min = {scene.dt_min:g} s: `geompm run` would stop "
               "before the first step (exit 3); the wave speed sqrt(E/rho), the viscosity and time.cfl set it")

@@ -69,6 +69,13 @@ def seed_body(geom, dim, origin, h, ppc, base_dir: Path, json_path: str, upper=N
     lo, hi, contains = body_region(geom, dim, base_dir, json_path, None if upper is None else (origin, upper, h), crs)
     if upper is not None:
         lo, hi = np.maximum(lo, origin), np.minimum(hi, upper)
+    if geom.type in RELEASE_TYPES:  # column by column: memory follows the particles, not the box
+        from geompm.setup.release_seed import seed_release
+
+        pts = seed_release(contains, lo, hi, origin, h, ppc, json_path)
+        if len(pts) == 0:
+            raise CaseError([(json_path, "the geometry contains no particle; enlarge it or refine the grid")])
+        return pts, contains
     points = float(np.prod(np.maximum(np.ceil((np.asarray(hi) - np.asarray(lo)) / h * ppc) + 1, 0.0)))
     require_memory(points * 8 * (dim + 2), json_path,
                    f"seeding {points:.3g} candidate particles ({ppc} per cell and axis in a box of "
