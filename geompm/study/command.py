@@ -246,13 +246,19 @@ def cmd_study(args) -> int:
     return 0 if summary["finished"] == len(rows) else 3
 
 
+def shown(v: float, digits: int = 4) -> str:
+    """A value with ``digits`` significant digits, but a map coordinate (|v| >= 1e4: an easting of 612 345.67 m)
+    in full to the centimetre, never as 6.123e+05."""
+    return f"{v:.2f}" if abs(v) >= 1e4 else f"{v:.{digits}g}"
+
+
 def _print_summary(rows, summary, errs, out: Path, made: bool, scalars=()) -> None:
     print(f"{summary['finished']} of {summary['variants']} variants finished; reference: {summary['reference']}")
     for r in rows:
         e = "  ".join(f"{n}={r[n]:.3g}" for n in errs if isinstance(r.get(n), float) and math.isfinite(r[n]))
         wall = f"{r['wall_seconds']:.1f} s" if r.get("wall_seconds") is not None else "-"
         print(f"  {r['variant']}  {r['status'][:60]:<10}  {wall:>9}  {e}")
-        values = "  ".join(f"{n}={r[n]:.5g}" for n in scalars if isinstance(r.get(n), float) and math.isfinite(r[n]))
+        values = "  ".join(f"{n}={shown(r[n], 5)}" for n in scalars if isinstance(r.get(n), float) and math.isfinite(r[n]))
         if values:
             print(f"         {r.get('label', '')}: {values}")
     for o in summary["orders"]:
@@ -262,7 +268,7 @@ def _print_summary(rows, summary, errs, out: Path, made: bool, scalars=()) -> No
             if k not in ("group", "cell_sizes"):
                 print(f"  {k}: {v:.2f}" if isinstance(v, float) and math.isfinite(v) else f"  {k}: not monotone")
     for name, d in summary["distribution"].items():
-        print(f"{name}: mean {d['mean']:.4g}, sd {d['std']:.3g}, 5% {d['p05']:.4g}, median {d['p50']:.4g}, "
-              f"95% {d['p95']:.4g} (n = {d['n']})")
+        print(f"{name}: mean {shown(d['mean'])}, sd {d['std']:.3g}, 5% {shown(d['p05'])}, median {shown(d['p50'])}, "
+              f"95% {shown(d['p95'])} (n = {d['n']})")
     print(f"wrote {out / 'study.csv'}" + (f", {out / 'study.png'}" if made else "") + f", {out / 'study_summary.json'}")
     sys.stdout.flush()

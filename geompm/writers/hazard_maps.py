@@ -20,8 +20,15 @@ column's total weight per area (Iverson 1997: lambda near 1 is a liquefied, far-
 
 The maps kept are the maxima over the run of each (``depth_max``,
 ``speed_max``, ``pressure_max``, ``energy_max``), the first time the depth
-reached ``depth_threshold`` (``arrival``, NoData where it never did), the
-depth at the end (``deposit``) and at the start (``source``); the names
+reached ``depth_threshold`` while the column moved at ``arrival_speed`` or faster (``arrival``: a deposit
+that creeps into a cell after the flow stopped does not arrive there; the source's cells arrive at the
+start), the
+depth at the end (``deposit``) and at the start (``source``); with ``times`` the depth and speed at each of
+those times (``depth_t<time>``, ``speed_t<time>``: the depth and the speed a barrier sees at one moment);
+every map is NoData (-9999) where its quantity is not defined: outside the flow (the depth never reached
+the threshold) for the maxima and the arrival, outside the deposit and the source (thinner than the
+threshold) for those, outside the flow at that time for the timed maps.  Each band's description
+names the quantity and its unit (``depth_max [m]``); the names
 follow practice (r.avaflow's hflow_max, vflow_max, pflow_max, treach,
 hflow_dep).  The speed, pressure and energy maxima count only columns at
 least ``depth_threshold`` deep (a lone particle's speed is not a flow's).
@@ -52,6 +59,8 @@ from geompm.writers.base import Writer
 
 NODATA = -9999.0
 MAPS = ("depth_max", "speed_max", "pressure_max", "energy_max", "arrival", "deposit", "source")
+#: maps that are NoData where the flow never reached the depth threshold
+FLOW_MAPS = ("depth_max", "speed_max", "pressure_max", "energy_max", "pore_pressure_ratio_max")
 
 
 class HazardMapParams(Params):
@@ -59,6 +68,10 @@ class HazardMapParams(Params):
                                               "the case file); default the terrain obstacle's DEM")
     coarsen: int = Field(1, ge=1, description="Merge k x k pixels of the raster into one map cell")
     depth_threshold: float = Field(0.01, gt=0, description="Depth [m] that counts as flow (arrival, maxima)")
+    arrival_speed: float = Field(0.1, ge=0, description="Speed [m/s] a column must move at for the flow to arrive "
+                                                        "there (the deposit's creep does not); 0: any")
+    times: list[float] = Field(default_factory=list, description="Times [s] at which the depth and speed maps are "
+                                                                 "written (depth_t<time>.tif, speed_t<time>.tif)")
 
 
 @njit(cache=True)
@@ -85,20 +98,23 @@ def column_sums(p_x, p_v, p_mass, p_vol, x0, y0, cx, cy, nx, ny, out):
 
 
 @njit(cache=True)
-def accumulate(sums, area, threshold, time, depth, depth_max, speed_max, pressure_max, energy_max, arrival):
+def accumulate(sums, area, threshold, arrival_speed, time, depth, speed, depth_max, speed_max, pressure_max,
+               energy_max, arrival):
     nx, ny = depth.shape
     for i in range(nx):
         for j in range(ny):
             vol, m = sums[i, j, 0], sums[i, j, 1]
             h = vol / area
             depth[i, j] = h
+            speed[i, j] = 0.0
             if h > depth_max[i, j]:
                 depth_max[i, j] = h
             if h < threshold or m <= 0.0:
                 continue
-            if arrival[i, j] < 0.0:
-                arrival[i, j] = time
             u2 = (sums[i, j, 2] ** 2 + sums[i, j, 3] ** 2 + sums[i, j, 4] ** 2) / (m * m)
+            speed[i, j] = np.sqrt(u2)
+            if arrival[i, j] < 0.0 and speed[i, j] >= arrival_speed:
+                arrival[i, j] = time
             speed_max[i, j] = max(speed_max[i, j], np.sqrt(u2))
             pressure_max[i, j] = max(pressure_max[i, j], m / vol * u2)
             energy_max[i, j] = max(energy_max[i, j], 0.5 * sums[i, j, 5] / area)
@@ -184,7 +200,9 @@ class HazardMapWriter(Writer):
             self.folder.mkdir(exist_ok=True)
         self.sums = np.zeros((nx, ny, 6))
         self.depth = np.zeros((nx, ny))
+        self.speed = np.zeros((nx, ny))  # the column's speed now [m/s] (0 below the threshold)
         self.maps = {name: np.zeros((nx, ny)) for name in MAPS}
+        self.timed = sorted(self.params.times)  # times still to write [s]
         self.maps["arrival"][:] = -1.0
         self.basal = None
         if sim.scene.scheme.pore_water:  # the scheme carries pore water: its basal ratio is mapped
@@ -192,6 +210,7 @@ class HazardMapWriter(Writer):
             self.basal = np.zeros((nx, ny, 3))
         self.started = False
         self.volume_outside = 0.0
+        self.written_times = {}  # timed maps written: the asked time -> the step's time [s]
 
     def write(self, sim) -> None:
         st = sim.state
@@ -202,8 +221,13 @@ class HazardMapWriter(Writer):
         self.sums[:] = comm.sum(self.sums)
         self.volume_outside = float(comm.sum([outside])[0])
         m = self.maps
-        accumulate(self.sums, self.area, self.params.depth_threshold, sim.time, self.depth, m["depth_max"],
-                   m["speed_max"], m["pressure_max"], m["energy_max"], m["arrival"])
+        if not self.started:  # the source has arrived where it starts, moving or not
+            m["arrival"][self.sums[:, :, 0] / self.area >= self.params.depth_threshold] = sim.time
+        accumulate(self.sums, self.area, self.params.depth_threshold, self.params.arrival_speed, sim.time,
+                   self.depth, self.speed, m["depth_max"], m["speed_max"], m["pressure_max"], m["energy_max"],
+                   m["arrival"])
+        while self.timed and sim.time >= self.timed[0] - 1e-12 * max(1.0, self.timed[0]):
+            self._timed_maps(self.timed.pop(0), sim.time)
         if self.basal is not None:
             pore, wet_mass, g = sim.scene.scheme.basal_water(st)
             basal_ratio(st.p_x, pore, wet_mass, self.x0, self.y0, self.cx, self.cy, nx, ny, self.area,
@@ -214,22 +238,45 @@ class HazardMapWriter(Writer):
             self.started = True
         m["deposit"][:] = self.depth
 
-    def _geotiffs(self):
+    def _write_tif(self, name: str, data, unit: str) -> None:
         import rasterio
         from rasterio.transform import Affine
 
-        nx, ny = self.depth.shape
+        nx, ny = data.shape
         transform = Affine(self.cx, 0.0, self.x0, 0.0, -self.cy, self.y0 + ny * self.cy)  # north-up
+        band = data.T[::-1]  # rows from north to south
+        with atomic_path(self.folder / f"{name}.tif") as tmp:
+            with rasterio.open(tmp, "w", driver="GTiff", height=ny, width=nx, count=1, dtype="float64",
+                               crs=self.crs, transform=transform, nodata=NODATA) as dst:
+                dst.write(band, 1)
+                dst.set_band_description(1, f"{name} [{unit}]")
+                dst.update_tags(1, quantity=name, units=unit)
+
+    def _masked(self, name: str, grid):
+        """The map with NoData where its quantity is not defined (the module's docstring)."""
+        t = self.params.depth_threshold
+        data = grid.copy()
+        if name == "arrival":
+            data[data < 0.0] = NODATA
+        elif name in FLOW_MAPS:
+            data[self.maps["depth_max"] < t] = NODATA
+        elif name in ("deposit", "source"):
+            data[grid < t] = NODATA
+        return data
+
+    def _timed_maps(self, when: float, now: float) -> None:
+        """depth_t<when>.tif and speed_t<when>.tif of the state at ``now`` (the first step at or after it)."""
+        if not self.root:
+            return
+        flowing = self.depth >= self.params.depth_threshold
+        tag = f"{when:g}"
+        self._write_tif(f"depth_t{tag}", np.where(flowing, self.depth, NODATA), "m")
+        self._write_tif(f"speed_t{tag}", np.where(flowing, self.speed, NODATA), "m/s")
+        self.written_times[tag] = now
+
+    def _geotiffs(self):
         for name, grid in self.maps.items():
-            data = grid.copy()
-            if name == "arrival":
-                data[data < 0.0] = NODATA
-            band = data.T[::-1]  # rows from north to south
-            with atomic_path(self.folder / f"{name}.tif") as tmp:
-                with rasterio.open(tmp, "w", driver="GTiff", height=ny, width=nx, count=1, dtype="float64",
-                                   crs=self.crs, transform=transform, nodata=NODATA) as dst:
-                    dst.write(band, 1)
-                    dst.update_tags(1, quantity=name, units=UNITS[name])
+            self._write_tif(name, self._masked(name, grid), UNITS[name])
 
     def close(self, sim) -> None:
         if not self.root:
@@ -247,6 +294,7 @@ class HazardMapWriter(Writer):
                    **({"peak_pore_pressure_ratio": float(m["pore_pressure_ratio_max"].max())}
                       if "pore_pressure_ratio_max" in m else {}),
                    "crs": self.crs, "depth_threshold": self.params.depth_threshold,
+                   "arrival_speed": self.params.arrival_speed, "timed_maps": self.written_times,
                    "dem": str(self.dem_path.resolve())}
         summary.update(self._travel(flowed))
         atomic_write_json(self.folder / "summary.json", summary, indent=1)
@@ -275,7 +323,7 @@ class HazardMapWriter(Writer):
         with atomic_path(self.folder / "state.npz") as tmp:
             with open(tmp, "wb") as fh:
                 np.savez(fh, **self.maps)
-        return {"started": self.started}
+        return {"started": self.started, "timed": self.timed, "written_times": self.written_times}
 
     def resume(self, run_dir: Path, sim, state: dict) -> None:
         self.open(run_dir, sim)
@@ -283,6 +331,8 @@ class HazardMapWriter(Writer):
         for name in self.maps:
             self.maps[name][:] = saved[name]
         self.started = bool(state.get("started", True))
+        self.timed = list(state.get("timed", self.timed))
+        self.written_times = dict(state.get("written_times", {}))
 
 
 UNITS = {"depth_max": "m", "speed_max": "m/s", "pressure_max": "Pa", "energy_max": "J/m2", "arrival": "s",

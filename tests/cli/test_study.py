@@ -215,3 +215,11 @@ def test_threads_follow_the_option_then_numba_num_threads(tmp_path, monkeypatch)
 
     assert threads_per_run(1, 1) == (os.cpu_count() or 1)
     assert threads_per_run(os.cpu_count() or 1, 8) == 1
+
+
+def test_map_coordinates_are_printed_in_full():
+    """A runout given as an easting (612 345.67 m) prints to the centimetre, not as 6.123e+05; a small
+    value keeps its significant digits."""
+    from geompm.study.command import shown
+
+    assert shown(612345.6789) == "612345.68" and shown(2.34567) == "2.346" and shown(-1.2e6) == "-1200000.00"

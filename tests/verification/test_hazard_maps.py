@@ -169,3 +169,55 @@ def test_basal_pore_pressure_ratio_map_of_a_saturated_block(tmp_path):
     assert float(np.median(ratio[full])) == pytest.approx(expected, rel=0.03)
     summary = json.loads((out / "maps" / "summary.json").read_text())
     assert summary["peak_pore_pressure_ratio"] >= float(np.median(ratio[full]))
+
+
+def test_maps_are_nodata_outside_the_flow_and_timed_maps_pair_depth_and_speed(tmp_path):
+    """Every map is NoData where its quantity is undefined (outside the flow, the deposit, the source) and
+    names its unit in the band description; the timed maps at 0.1 and 0.2 s hold the block's volume (to
+    3 %) and its speed, a t along the slope with a = g (sin 30 - 0.3 cos 30) = 2.36 m/s2 (to 10 %: the
+    terrain's velocity-form friction, tests/verification/test_terrain.py)."""
+    path, _ = _site_case(tmp_path)
+    case = json.loads(path.read_text())
+    case["outputs"] = [{"writer": "hazard_maps", "depth_threshold": 0.01, "times": [0.1, 0.2]}]
+    path.write_text(json.dumps(case))
+    out = tmp_path / "run"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
+    with rasterio.open(out / "maps" / "depth_max.tif") as src:
+        depth_max = src.read(1, masked=True)
+        assert src.descriptions == ("depth_max [m]",)
+        area = abs(src.transform.a * src.transform.e)
+    assert depth_max.mask.any() and (depth_max.compressed() >= 0.01).all()  # NoData where the flow never was
+    for name in ("speed_max", "pressure_max", "energy_max"):
+        with rasterio.open(out / "maps" / f"{name}.tif") as src:
+            assert (src.read(1, masked=True).mask == depth_max.mask).all(), name
+    with rasterio.open(out / "maps" / "deposit.tif") as src:
+        deposit = src.read(1, masked=True)
+    assert (deposit.compressed() >= 0.01).all() and deposit.mask.sum() > depth_max.mask.sum()
+    summary = json.loads((out / "maps" / "summary.json").read_text())
+    volume = summary["source_volume_m3"]
+    a = 9.81 * (math.sin(math.radians(30)) - 0.3 * math.cos(math.radians(30)))
+    for t in (0.1, 0.2):
+        at = summary["timed_maps"][f"{t:g}"]
+        assert t <= at < t + 0.01
+        with rasterio.open(out / "maps" / f"depth_t{t:g}.tif") as src:
+            assert float(src.read(1, masked=True).sum()) * area == pytest.approx(volume, rel=0.03)
+            assert src.descriptions == ("depth_t%g [m]" % t,)
+        with rasterio.open(out / "maps" / f"speed_t{t:g}.tif") as src:
+            speed = src.read(1, masked=True)
+        assert float(np.ma.median(speed)) == pytest.approx(a * at, rel=0.10)
+
+
+def test_a_creeping_column_does_not_arrive():
+    """accumulate (writers/hazard_maps.py): a column 0.2 m deep moving at 0.05 m/s (creep, below the 0.1 m/s
+    arrival speed) gets no arrival time but its depth and speed maxima; at 0.2 m/s it arrives."""
+    from geompm.writers.hazard_maps import accumulate
+
+    sums = np.zeros((2, 1, 6))
+    for i, u in enumerate((0.05, 0.2)):
+        sums[i, 0, :2] = 0.2, 400.0  # 0.2 m3 over 1 m2, 2000 kg/m3
+        sums[i, 0, 2] = 400.0 * u
+    depth, speed, dmax, smax, pmax, emax = (np.zeros((2, 1)) for _ in range(6))
+    arrival = np.full((2, 1), -1.0)
+    accumulate(sums, 1.0, 0.01, 0.1, 59.0, depth, speed, dmax, smax, pmax, emax, arrival)
+    assert arrival[0, 0] == -1.0 and arrival[1, 0] == 59.0
+    assert dmax[0, 0] == pytest.approx(0.2) and smax[0, 0] == pytest.approx(0.05) and speed[1, 0] == pytest.approx(0.2)
