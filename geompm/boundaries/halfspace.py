@@ -16,12 +16,15 @@ from numba import njit
 from geompm.contract.layout import pack_in_layout, param_layout
 from geompm.contract.stages import NO_AUX, GridStage, ParticleStage
 from geompm.contact.rules import CONDITIONS, ON_SURFACE, apply_condition, effective_mu
+from geompm.contact.voellmy import VOELLMY, turbulent_drag
+from geompm.contact.voellmy_params import flow_density
 
 #: packed parameters: a point on the surface [m] and the unit normal into the material (3 slots each,
 #: 2D uses the first two), the contact condition (contact.CONDITIONS), the Coulomb coefficient [-],
-#: the contact layer [m]
+#: the contact layer [m]; Voellmy's xi [m/s2], rho g h^(d-1) of its drag and the lowest signed distance of
+#: the nodes that take it [m] (contact/voellmy.py)
 HALFSPACE = param_layout("point_x", "point_y", "point_z", "normal_x", "normal_y", "normal_z",
-                         "condition", "mu", "layer")
+                         "condition", "mu", "layer", "xi", "drag", "band")
 P0, N0 = HALFSPACE.point_x, HALFSPACE.normal_x
 
 
@@ -32,7 +35,10 @@ def halfspace_node_rule(prm, aux, dt, x, m, v, v_old, f, pw, work, out):
     for a in range(d):
         dist += (x[a] - prm[P0 + a]) * prm[N0 + a]
     if dist <= prm[HALFSPACE.layer]:
-        apply_condition(v, prm, N0, int(prm[HALFSPACE.condition]), effective_mu(prm[HALFSPACE.mu], pw, prm, N0, d))
+        condition = int(prm[HALFSPACE.condition])
+        apply_condition(v, prm, N0, condition, effective_mu(prm[HALFSPACE.mu], pw, prm, N0, d))
+        if condition == VOELLMY and dist > prm[HALFSPACE.band]:
+            turbulent_drag(v, prm, N0, prm[HALFSPACE.drag], prm[HALFSPACE.xi], dt, m)
 
 
 @njit(cache=True, inline="always")
@@ -66,12 +72,18 @@ class HalfSpace(GridStage, ParticleStage):
         point[:d], normal[:d] = self.point, self.normal
         values = {f"point_{c}": point[k] for k, c in enumerate("xyz")}
         values.update({f"normal_{c}": normal[k] for k, c in enumerate("xyz")})
-        values.update(condition=CONDITIONS[self.params.condition], mu=self.params.friction,
-                      layer=self.layer + ON_SURFACE * self.grid.h)
+        layer = self.layer + ON_SURFACE * self.grid.h
+        values.update(condition=CONDITIONS[self.params.condition], mu=self.params.friction, layer=layer,
+                      xi=0.0, drag=0.0, band=layer - self.grid.h)
+        if self.params.condition == "voellmy":
+            values.update(xi=self.params.xi, drag=self.voellmy_density * self.gravity * self.grid.h ** (d - 1))
         self.prm = pack_in_layout(HALFSPACE, values, f"stage '{self.label}'")
 
     def setup(self, scene):
         self.grid = scene.grid
+        self.gravity = float(np.linalg.norm(scene.gravity))
+        if self.params.condition == "voellmy":
+            self.voellmy_density = flow_density(self.params, scene, self.json_path)
 
     def water_boundary(self):
         """The half-space as a boundary of saturated soil (contract/stages.py): its nodes are those the

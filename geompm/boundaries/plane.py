@@ -24,17 +24,18 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, field_validator
 
-from geompm.contract.plugin import Params, nonzero_vector, vector_length_problems
+from geompm.contact.voellmy_params import VoellmyParams
+from geompm.contract.plugin import nonzero_vector, vector_length_problems
 from geompm.boundaries.halfspace import HalfSpace
 
 
-class PlaneParams(Params):
+class PlaneParams(VoellmyParams):
     point: list[float] = Field(description="A point on the plane [m]")
     normal: list[float] = Field(description="Normal pointing from the plane into the material (any length)")
-    condition: Literal["slip", "fixed", "friction", "roller"] = Field(
+    condition: Literal["slip", "fixed", "friction", "roller", "voellmy"] = Field(
         "slip", description="Contact condition: 'slip' (free to separate), 'fixed' (no slip), 'friction' (Coulomb), "
         "'roller' (no normal motion either way, tangential free: a symmetry plane or a bonded smooth wall that "
-        "holds tension)")
+        "holds tension), 'voellmy' (Coulomb 'friction' plus the turbulent term rho g u^2 / xi: contact/voellmy.py)")
     friction: float = Field(0.0, ge=0.0, description="Coulomb coefficient mu [-] (condition 'friction')")
     drainage: Literal["impermeable", "drained"] = Field(
         "impermeable", description="For saturated soil (materials' pore_water): 'impermeable' (no water flows "

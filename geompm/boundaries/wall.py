@@ -18,7 +18,7 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, model_validator
 
-from geompm.contract.plugin import Params
+from geompm.contact.voellmy_params import VoellmyParams
 from geompm.contract.schedule import check_schedule
 from geompm.contract.stages import FAR_NODE
 from geompm.boundaries.halfspace import HalfSpace
@@ -26,12 +26,12 @@ from geompm.boundaries.halfspace import HalfSpace
 SIDES = ("x-", "x+", "y-", "y+", "z-", "z+")
 
 
-class WallParams(Params):
+class WallParams(VoellmyParams):
     side: Literal["x-", "x+", "y-", "y+", "z-", "z+"] = Field(description="Face of the grid")
-    condition: Literal["slip", "fixed", "friction", "roller"] = Field(
+    condition: Literal["slip", "fixed", "friction", "roller", "voellmy"] = Field(
         "slip", description="Contact condition: 'slip' (free to separate), 'fixed' (no slip), 'friction' (Coulomb), "
         "'roller' (no normal motion either way, tangential free: a symmetry plane or a bonded smooth wall that "
-        "holds tension)")
+        "holds tension), 'voellmy' (Coulomb 'friction' plus the turbulent term rho g u^2 / xi: contact/voellmy.py)")
     friction: float = Field(0.0, ge=0.0, description="Coulomb coefficient mu [-] (condition 'friction')")
     drainage: Literal["impermeable", "drained", "head"] = Field(
         "impermeable", description="For saturated soil (materials' pore_water): 'impermeable' (no water flows "

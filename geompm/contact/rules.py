@@ -12,7 +12,9 @@ pointing away from the surface into the material, v_n = v . n:
   2000, Comput. Methods Appl. Mech. Eng. 187:529);
 - roller (3): the normal component is removed whatever its sign, the tangential
   part is free: a symmetry plane, or a smooth wall the material is bonded to, that
-  holds tension as well as compression (an oedometer's ring under suction).
+  holds tension as well as compression (an oedometer's ring under suction);
+- voellmy (4): friction's rule here; the surface's node rule adds the turbulent drag
+  rho g |u|^2 / xi on its first layer of nodes (contact/voellmy.py).
 
 Against saturated soil friction acts on the effective normal force (Terzaghi's principle at the
 contact; Iverson 1997, Rev. Geophys. 35:245): the tangential impulse is bounded by
@@ -29,7 +31,7 @@ import math
 
 from numba import njit
 
-CONDITIONS = {"fixed": 0, "slip": 1, "friction": 2, "roller": 3}
+CONDITIONS = {"fixed": 0, "slip": 1, "friction": 2, "roller": 3, "voellmy": 4}
 #: a node within ON_SURFACE h of a surface is on it, in contact: a node that lies exactly on a face
 #: (an obstacle or plane aligned with the grid) otherwise has a signed distance of +-1e-17 m from the
 #: round-off of the lattice or of the plane's point, and that sign decided whether the face's whole row
@@ -76,7 +78,7 @@ def apply_condition(v, normal, n0, condition, mu):
     for a in range(d):
         v[a] -= vn * normal[n0 + a]
         vt2 += v[a] * v[a]
-    if condition == 2 and vt2 > 0.0:
+    if (condition == 2 or condition == 4) and vt2 > 0.0:
         scale = max(0.0, 1.0 - mu * (-vn) / math.sqrt(vt2))
         for a in range(d):
             v[a] *= scale

@@ -1,0 +1,92 @@
+"""Voellmy basal friction (contact/voellmy.py) against its closed forms.
+
+A layer 0.2 m deep sliding from rest on a Voellmy bed at 30 deg (mu 0.2, xi 50 m/s2; periodic along the
+slope, gravity tilted; geompm/testing/verification/voellmy_layer.py) follows u = u_T tanh(t / tau),
+u_T = sqrt(xi H (sin beta - mu cos beta)) = 1.808 m/s.  Measured (benchmarks/results/2026-12-05-issue58/
+voellmy-layer.txt): at t = 0.25 / 0.5 / 1 / 2.5 s within 0.02 % at h = 0.05 and 0.025 m and within 0.08 % at
+0.0125 m.  A 1 m block on a 30 deg plane (not aligned with the grid) at t = 1 s: -2.8 / -1.3 / -0.4 % at
+h = 0.05 / 0.025 / 0.0125 m (converging; its ends are free).  The node's implicit update solves
+|u'| + K |u'|^2 = |u| exactly."""
+
+import math
+
+import numpy as np
+import pytest
+
+from geompm.api import scene_from_dict
+from geompm.contact.voellmy import turbulent_drag
+from geompm.engine.scheduler import Simulation
+from geompm.errors import CaseError
+from geompm.schema.load import parse_case
+from geompm.testing.verification.voellmy_layer import DEPTH, G, MU, XI, layer_case, layer_speeds, speed
+
+
+def test_the_node_update_is_the_implicit_drag():
+    """v = (3, 4, 0) m/s on a bed with normal z: |u| = 5; K = drag dt / (xi m) = 2 s/m: |u'| = (sqrt(41) - 1)/4,
+    the direction kept and the normal part untouched (v_z = -1 stays)."""
+    v = np.array([3.0, 4.0, -1.0])
+    normal = np.array([0.0, 0.0, 1.0])
+    turbulent_drag(v, normal, 0, 2.0, 10.0, 0.5, 0.05)  # K = 2 * 0.5 / (10 * 0.05) = 2
+    u = (math.sqrt(1 + 4 * 2 * 5) - 1) / (2 * 2)
+    assert np.hypot(v[0], v[1]) == pytest.approx(u, rel=1e-14) and v[0] / v[1] == pytest.approx(0.75)
+    assert v[2] == -1.0 and u + 2 * u * u == pytest.approx(5.0, rel=1e-14)
+
+
+@pytest.mark.parametrize("h", [0.05, 0.025])
+def test_a_layer_reaches_the_voellmy_speed(h):
+    for t, u in layer_speeds(h, times=(0.5, 2.5)):
+        assert u == pytest.approx(speed(t), rel=0.002), (h, t)
+
+
+def _plane_case(h):
+    th = math.radians(30)
+    t, n = np.array([math.cos(th), -math.sin(th)]), np.array([math.sin(th), math.cos(th)])
+    p0 = np.array([0.0, 2.8])
+    a, b = p0 + 0.3 * t, p0 + 1.3 * t
+    case = layer_case(h)
+    case.update(grid={"origin": [0, 0], "extent": [4.0, 3.2], "cell_size": h}, gravity=[0.0, -G])
+    case["time"]["end"] = 1.0
+    case["bodies"][0].update(geometry={"type": "polygon", "vertices": [list(v) for v in (a, b, b + DEPTH * n,
+                                                                                         a + DEPTH * n)]},
+                             surface_normal=list(n))
+    case["boundaries"] = [{"type": "plane", "point": list(p0), "normal": list(n), "condition": "voellmy",
+                           "friction": MU, "xi": XI}]
+    return case, t
+
+
+@pytest.mark.slow
+def test_a_block_on_an_inclined_plane_converges_on_the_voellmy_speed():
+    errors = []
+    for h in (0.05, 0.025):
+        case, t = _plane_case(h)
+        sim = Simulation(scene_from_dict(case))
+        st = sim.state
+        while sim.time < 1.0 - 1e-12:
+            sim.step(min(sim.stable_dt(), 1.0 - sim.time))
+        u = float((st.p_mass * (st.p_v @ t)).sum() / st.p_mass.sum())
+        errors.append(abs(u / speed(1.0) - 1))
+    assert errors[0] < 0.04 and errors[1] < 0.02 and errors[1] < errors[0]
+
+
+@pytest.mark.parametrize("change, needle", [
+    ({"condition": "voellmy", "friction": 0.2}, "needs 'xi'"),
+    ({"condition": "friction", "friction": 0.2, "xi": 500.0}, "belong to condition 'voellmy'"),
+])
+def test_voellmy_input_is_checked(change, needle):
+    case = layer_case(0.05)
+    case["boundaries"][1] = {"type": "wall", "side": "y-", **change}
+    with pytest.raises(CaseError) as err:
+        parse_case(case, ".")
+    assert any(needle in text and path.startswith("boundaries.1") for path, text in err.value.problems)
+
+
+def test_two_densities_need_the_voellmy_density():
+    case = layer_case(0.05)
+    case["materials"]["light"] = dict(case["materials"]["debris"], density=1500.0)
+    case["bodies"].append({"material": "light", "geometry": {"type": "box", "min": [0.0, 0.2], "max": [0.2, 0.3]},
+                           "particles_per_cell": 2})
+    with pytest.raises(CaseError) as err:
+        scene_from_dict(case)
+    assert "'density'" in err.value.problems[0][1]
+    case["boundaries"][1]["density"] = 1800.0
+    assert scene_from_dict(case) is not None
