@@ -16,16 +16,18 @@ import math
 from numba import njit
 
 from geompm.contact.rules import apply_condition, effective_mu
+from geompm.contact.voellmy import VOELLMY, turbulent_drag
 from geompm.contract.layout import param_layout
 from geompm.contact.sdf_field import nearest_point
 
 #: an obstacle's packed parameters (3 slots per vector, 2D uses two): its signed-distance lattice (first
 #: point [m], points per axis, spacing [m]), its displacement at the pass's time [m], its velocity [m/s],
 #: the moment's reference point [m], the contact layer [m], the condition (contact/rules.py) and
-#: the Coulomb coefficient [-]
+#: the Coulomb coefficient [-]; Voellmy's xi [m/s2], rho g h^(d-1) of its drag and the lowest signed
+#: distance of the nodes that take it [m] (contact/voellmy.py; the terrain offers it)
 OBSTACLE = param_layout("lat_x", "lat_y", "lat_z", "shape_x", "shape_y", "shape_z", "spacing",
                         "shift_x", "shift_y", "shift_z", "vel_x", "vel_y", "vel_z",
-                        "moment_x", "moment_y", "moment_z", "layer", "condition", "mu")
+                        "moment_x", "moment_y", "moment_z", "layer", "condition", "mu", "xi", "drag", "band")
 FORCE_SLOTS = 10  # out[0:2d+4] (below) for d <= 3
 COUNT, DEPTH = FORCE_SLOTS, FORCE_SLOTS + 1  # the guard's corrections and its deepest penetration [m]
 #: where the per-face forces start in the grid pass's and the guard's rows: (faces, d) after the totals
@@ -33,7 +35,7 @@ FACES_GRID, FACES_GUARD = FORCE_SLOTS, DEPTH + 1
 
 
 @njit(cache=True, inline="always")
-def contact_and_record(v, w, n0, x0, b0, f0, prm, m, inv_dt, pw, wet, out):
+def contact_and_record(v, w, n0, x0, b0, f0, prm, m, inv_dt, pw, wet, out, phi):
     """Apply the rule to the velocity v (d,), with w[n0:n0 + d] holding grad(phi) (normalised here, in
     place), and record the force.  With ``wet`` the friction acts on the effective normal force of the
     node's pore water ``pw`` (contact/rules.effective_mu); the particle guard passes False (a particle
@@ -43,7 +45,9 @@ def contact_and_record(v, w, n0, x0, b0, f0, prm, m, inv_dt, pw, wet, out):
     prm[shift], so x + shift is where the force acts; w[b0:...], w[f0:...] are
     scratch.  The obstacle's velocity, moment point, condition and
     coefficient come from ``prm`` (OBSTACLE layout); vectors are read at
-    offsets, never sliced (contact.apply_condition).  Returns False, and
+    offsets, never sliced (contact.apply_condition).  With the condition 'voellmy' a node whose signed
+    distance ``phi`` is above prm[band] (the bed's first layer) also takes the turbulent drag, recorded
+    with the rest (contact/voellmy.py; the particle guard passes -inf).  Returns False, and
     changes nothing, if the gradient is zero."""
     d = v.shape[0]
     vel0, shift0, mom0 = OBSTACLE.vel_x, OBSTACLE.shift_x, OBSTACLE.moment_x
@@ -58,7 +62,10 @@ def contact_and_record(v, w, n0, x0, b0, f0, prm, m, inv_dt, pw, wet, out):
         w[b0 + a] = v[a]
         v[a] -= prm[vel0 + a]
     mu = effective_mu(prm[OBSTACLE.mu], pw, w, n0, d) if wet else prm[OBSTACLE.mu]
-    apply_condition(v, w, n0, int(prm[OBSTACLE.condition]), mu)
+    condition = int(prm[OBSTACLE.condition])
+    apply_condition(v, w, n0, condition, mu)
+    if condition == VOELLMY and phi > prm[OBSTACLE.band]:
+        turbulent_drag(v, w, n0, prm[OBSTACLE.drag], prm[OBSTACLE.xi], 1.0 / inv_dt, m)
     fn = 0.0
     for a in range(d):
         v[a] += prm[vel0 + a]

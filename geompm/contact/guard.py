@@ -126,7 +126,7 @@ def guard_rule(prm, field, dt, k, p_x, x0, p_v, C, m, s, work, out):
     for a in range(d):
         w[nrm + a] = w[val + 1 + a]
         p_x[a] = w[x + a] + prm[O.shift_x + a]
-    if contact_and_record(p_v, w, nrm, x, y, f, prm, m, 1.0 / dt, w, False, out):
+    if contact_and_record(p_v, w, nrm, x, y, f, prm, m, 1.0 / dt, w, False, out, -math.inf):
         out[COUNT] += 1.0
         record_on_face(field, prm, w, base, frac, f, d, FACES_GUARD, out)
 

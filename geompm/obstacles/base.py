@@ -67,7 +67,7 @@ def obstacle_node_rule(prm, field, dt, x, m, v, v_old, f, pw, work, out):
         return
     for a in range(d):
         work[nrm + a] = work[val + 1 + a]
-    if contact_and_record(v, work, nrm, xf, bef, fo, prm, m, 1.0 / dt, pw, True, out):
+    if contact_and_record(v, work, nrm, xf, bef, fo, prm, m, 1.0 / dt, pw, True, out, work[val]):
         record_on_face(field, prm, work, base, frac, fo, d, FACES_GRID, out)
 
 

@@ -39,6 +39,7 @@ from geompm.errors import CaseError
 from geompm.files.atomic import case_relative, unreadable_file
 from geompm.contract.layout import param_layout
 from geompm.contact.impact_params import ImpactParams
+from geompm.contact.voellmy_params import VoellmyParams
 from geompm.contract.stages import FAR_NODE
 from geompm.contact.force import COUNT, DEPTH, FACES_GRID, FACES_GUARD, OBSTACLE, contact_and_record
 from geompm.files.dem import bilinear, read_dem
@@ -53,12 +54,14 @@ O_LAYER = OBSTACLE.layer
 PROJECTIONS = 3  # tangent-plane steps of the signed distance
 
 
-class TerrainParams(ImpactParams):
+class TerrainParams(ImpactParams, VoellmyParams):
     dem: str = Field(description="DEM file relative to the case file (GeoTIFF, ESRI ASCII grid), heights [m]")
     clip: list[list[float]] | None = Field(
         None, description="[[xmin, ymin], [xmax, ymax]] in map coordinates [m]: use only this part of the DEM")
-    condition: Literal["slip", "fixed", "friction"] = Field("friction", description="Contact condition")
-    friction: float = Field(0.0, ge=0.0, description="Coulomb coefficient mu [-] (condition 'friction')")
+    condition: Literal["slip", "fixed", "friction", "voellmy"] = Field(
+        "friction", description="Contact condition; 'voellmy': Coulomb 'friction' plus rho g u^2 / xi "
+                                "(contact/voellmy.py)")
+    friction: float = Field(0.0, ge=0.0, description="Coulomb coefficient mu [-] (conditions 'friction', 'voellmy')")
     contact_layer: float = Field(
         0.0, ge=0.0, description="Nodes with signed distance <= this [m] are in contact (0: on or below)")
     moment_point: list[float] | None = Field(None, description="Reference point of the moment [m]; default the "
@@ -130,7 +133,7 @@ def terrain_node_rule(prm, z, dt, x, m, v, v_old, f, pw, work, out):
         return
     for a in range(3):
         work[a] = x[a]
-    if contact_and_record(v, work, 3, 0, 6, 9, prm, m, 1.0 / dt, pw, True, out) and prm[T.faces] > 0.0:
+    if contact_and_record(v, work, 3, 0, 6, 9, prm, m, 1.0 / dt, pw, True, out, phi) and prm[T.faces] > 0.0:
         record_on_dem_faces(prm, x[0], x[1], work, 9, FACES_GRID, out)
 
 
@@ -150,7 +153,7 @@ def terrain_guard_rule(prm, z, dt, k, x, x0, v, C, m, s, work, out):
             break
     for a in range(3):
         work[a] = x[a]
-    if contact_and_record(v, work, 3, 0, 6, 9, prm, m, 1.0 / dt, work, False, out):
+    if contact_and_record(v, work, 3, 0, 6, 9, prm, m, 1.0 / dt, work, False, out, -math.inf):
         out[COUNT] += 1.0
         if prm[T.faces] > 0.0:
             record_on_dem_faces(prm, x[0], x[1], work, 9, FACES_GUARD, out)
