@@ -6,11 +6,12 @@ coarsened to at most MAX_COLUMNS per axis, in row blocks, so a large site needs 
 rows of them.  Per unit plan area dA:
 
     V = sum (top - bottom) dA            the volume released [m3]
-    V_cut = sum of the parts of each column above the grid's top, below its bottom or outside it in plan
+    V_cut = sum of the parts of each column above the grid's top or below its bottom
 
 A cut of more than CUT_SHARE of V is refused with both volumes and the extent that holds it (a depth of
 220.7 given in centimetres, clipped at the grid top, had silently released 43 406 m3 instead of about
-134 000 m3).  Warned: a column deeper than MAX_DEPTH [m] (a unit slip), and a mean depth V / A of fewer
+134 000 m3).  A release reaching beside the grid in plan is seeded within it (the mass between two DEMs
+that cover more than the grid, as intended) and the volume left out is warned about.  Warned: a column deeper than MAX_DEPTH [m] (a unit slip), and a mean depth V / A of fewer
 than CELLS_DEEP cells (a flow about one cell deep lost 7 % of its runout between h = 1.5 and 1 m).
 """
 
@@ -31,7 +32,7 @@ def release_checks(release, lo, hi, origin, upper, h: float, json_path: str):
     xs = np.arange(lo[0] + 0.5 * spacing, hi[0], spacing)
     ys = np.arange(lo[1] + 0.5 * spacing, hi[1], spacing)
     dA = spacing * spacing
-    vol = cut = area = 0.0
+    vol = cut = beside = area = 0.0
     deepest, top_max = 0.0, -np.inf
     inside_x = (xs >= origin[0]) & (xs <= upper[0])
     for r in range(0, len(ys), ROWS):
@@ -45,9 +46,10 @@ def release_checks(release, lo, hi, origin, upper, h: float, json_path: str):
         area += float(released.sum()) * dA
         deepest = max(deepest, float(t.max()))
         top_max = max(top_max, float(top[released].max()))
-        kept = np.clip(np.minimum(top, upper[2]) - np.maximum(bottom, origin[2]), 0.0, None)
+        kept = np.minimum(np.clip(np.minimum(top, upper[2]) - np.maximum(bottom, origin[2]), 0.0, None), t)
         in_plan = (inside_x[:, None] & ((ys[r:r + ROWS] >= origin[1]) & (ys[r:r + ROWS] <= upper[1]))[None, :]).ravel()
-        cut += float((t - np.where(in_plan, np.minimum(kept, t), 0.0)).sum()) * dA
+        cut += float(np.where(in_plan, t - kept, 0.0).sum()) * dA
+        beside += float(np.where(in_plan, 0.0, t).sum()) * dA
     problems, warnings = [], []
     if vol <= 0.0:
         return problems, warnings
@@ -55,8 +57,12 @@ def release_checks(release, lo, hi, origin, upper, h: float, json_path: str):
         need = f"; the release's top reaches z = {top_max:.6g} m, the grid's top is {upper[2]:.6g} m" \
             if top_max > upper[2] else ""
         problems.append((json_path, f"the grid would cut off {cut:.6g} m3 of the {vol:.6g} m3 released "
-                                    f"({100 * cut / vol:.3g} %){need}: enlarge grid.extent (or move grid.origin) "
-                                    "to hold the whole release, or check the thickness's unit"))
+                                    f"({100 * cut / vol:.3g} %) above its top or below its bottom{need}: enlarge "
+                                    "grid.extent (or move grid.origin) to hold the whole release, or check the "
+                                    "thickness's unit"))
+    if beside > CUT_SHARE * vol:
+        warnings.append((json_path, f"{beside:.6g} m3 of the {vol:.6g} m3 released ({100 * beside / vol:.3g} %) lies "
+                                    "beside the grid in plan and is not seeded (the grid's plan clips the release)"))
     if deepest > MAX_DEPTH:
         warnings.append((json_path, f"the release is up to {deepest:.6g} m deep (mean {vol / area:.4g} m over "
                                     f"{area:.6g} m2, {vol:.6g} m3): thicknesses are in metres; a value in centimetres "
