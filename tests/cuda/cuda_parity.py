@@ -172,6 +172,11 @@ def scenes(folder: Path) -> dict:
         # by a quarter of its magnitude after 3 steps)
         "mohr_coulomb_viscoplastic_2d": case2d(law("mohr_coulomb", friction_angle=5.0, dilation_angle=0.0,
                                                    cohesion=0.0), {"viscoplastic_time": 0.002}, velocity=[0.5, 0.0]),
+        # Voellmy basal friction (contact/voellmy.py): the turbulent drag on the first node layer of a wall and a plane
+        "drucker_prager_voellmy_wall_plane": case2d(law("drucker_prager"), boundaries=[
+            {"type": "wall", "side": "y-", "condition": "voellmy", "friction": 0.3, "xi": 50.0},
+            {"type": "plane", "point": [0.9, 0.0], "normal": [-1.0, 0.3], "condition": "voellmy", "friction": 0.2,
+             "xi": 200.0}], velocity=[1.5, 0.0]),
         "critical_state_sand_2d": case2d(law("critical_state_sand", youngs_modulus=2e6), velocity=[1.0, 0.0]),
         "modified_cam_clay_2d": dict(case2d(law("modified_cam_clay", preconsolidation_pressure=5e3),
                                             boundaries=[{"type": "wall", "side": "y-", "condition": "friction",

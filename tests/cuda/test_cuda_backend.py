@@ -12,10 +12,10 @@
 - float32 (solver.precision): two scenes in float32 (2D DP, and elastic through the tiled P2G) agree
   within 2e-4 on both backends (measured 1.4e-5 on a stress: the order of the P2G sums in float32, which
   the simulator's threads change from run to run; a wrong index or a missed term differs at O(1)).
-- Parity: tests/cuda/cuda_parity.py runs 19 float64 tiny scenes (36-64 particles, 3 steps) on both backends in a
+- Parity: tests/cuda/cuda_parity.py runs 20 float64 tiny scenes (36-64 particles, 3 steps) on both backends in a
   subprocess with NUMBA_ENABLE_CUDASIM=1: every built-in law (and the mu_i plugin), both integrations
   of the yield fluids, PIC/APIC/FLIP/MLS, linear/quadratic/cubic, USL/MUSL, 2D and 3D, every
-  built-in stage (walls, plane, periodic, both dampings, box/sphere/cylinder/STL/terrain obstacles
+  built-in stage (walls, plane, periodic, Voellmy friction on both, both dampings, box/sphere/cylinder/STL/terrain obstacles
   with their recorded forces and the penetration guard), and saturated soil (schemes/saturated/cuda.py:
   a DP debris with pore water against an impermeable friction floor and a drained wall; its pore
   pressure and water velocity compared too, measured 4e-16).  Positions, velocities, stresses and
@@ -109,7 +109,7 @@ def test_cuda_backend_matches_the_cpu_on_every_law_and_stage_under_the_simulator
         # from the same bounding boxes the kernel takes), so both paths are compared with the atomic kernel
         assert r["blocks_tiled"] == (r["blocks"] if fits else 0), (name, r)
         assert r["diff"] < 1e-12 and r["mass"] > 1.0, (name, r)
-    assert len(rows) >= 19
+    assert len(rows) >= 20
     for r in rows:
         name = r["scene"]
         f32 = name.endswith("_float32")
