@@ -17,7 +17,7 @@ from geompm.contract.layout import pack_in_layout, param_layout
 from geompm.contract.stages import NO_AUX, GridStage, ParticleStage
 from geompm.contact.rules import CONDITIONS, ON_SURFACE, apply_condition, effective_mu
 from geompm.contact.voellmy import VOELLMY, turbulent_drag
-from geompm.contact.voellmy_params import flow_density
+from geompm.contact.voellmy_params import voellmy_density, voellmy_slots
 
 #: packed parameters: a point on the surface [m] and the unit normal into the material (3 slots each,
 #: 2D uses the first two), the contact condition (contact.CONDITIONS), the Coulomb coefficient [-],
@@ -74,16 +74,13 @@ class HalfSpace(GridStage, ParticleStage):
         values.update({f"normal_{c}": normal[k] for k, c in enumerate("xyz")})
         layer = self.layer + ON_SURFACE * self.grid.h
         values.update(condition=CONDITIONS[self.params.condition], mu=self.params.friction, layer=layer,
-                      xi=0.0, drag=0.0, band=layer - self.grid.h)
-        if self.params.condition == "voellmy":
-            values.update(xi=self.params.xi, drag=self.voellmy_density * self.gravity * self.grid.h ** (d - 1))
+                      **voellmy_slots(self.params, self.voellmy_rho, self.gravity, self.grid.h, d, layer))
         self.prm = pack_in_layout(HALFSPACE, values, f"stage '{self.label}'")
 
     def setup(self, scene):
         self.grid = scene.grid
         self.gravity = float(np.linalg.norm(scene.gravity))
-        if self.params.condition == "voellmy":
-            self.voellmy_density = flow_density(self.params, scene, self.json_path)
+        self.voellmy_rho = voellmy_density(self.params, scene, self.json_path)
 
     def water_boundary(self):
         """The half-space as a boundary of saturated soil (contract/stages.py): its nodes are those the

@@ -85,8 +85,8 @@ def pressure_centre(stage) -> float:
 
 
 def design_report(stage) -> dict:
-    """The impact quantities (ImpactRecord.report), the approach flow read by the probe at first contact and
-    the equivalent coefficients; {} before first contact."""
+    """The impact quantities (ImpactRecord.report), the approach flow its probe read (the largest momentum
+    flux up to a window after first contact) and the equivalent coefficients; {} before first contact."""
     out = stage.impact.report()
     if not out:
         return out

@@ -26,7 +26,7 @@ from geompm.contract.stages import GridStage, ParticleStage
 from geompm.contact.force import COUNT, DEPTH, FACES_GRID, FACES_GUARD, FORCE_SLOTS, OBSTACLE
 from geompm.contact.face_pressure import face_pressure_step, spread_matrix
 from geompm.contact.impact import ImpactRecord
-from geompm.contact.voellmy_params import flow_density
+from geompm.contact.voellmy_params import voellmy_density, voellmy_slots
 from geompm.contact.impact_design import design_report, momentum_flux
 
 
@@ -57,8 +57,7 @@ class ContactForceStage(GridStage, ParticleStage):
         self.max_depth = 0.0  # deepest penetration the guard corrected [m]
         self.faces = None  # the tessellate.Surface the force is spread on (start_faces), if any
         self.gravity = np.asarray(scene.gravity, float)
-        if self.params.condition == "voellmy":  # the terrain offers it (obstacles refuse it)
-            self.voellmy_density = flow_density(self.params, scene, self.json_path)
+        self.voellmy_rho = voellmy_density(self.params, scene, self.json_path)  # the terrain offers it
         self.impact = ImpactRecord(scene.dim, self.params.force_window, scene.end_time)
         named = self.params.probe
         self.probe = next((p for p in scene.probes if p.label == named), None) if named else None
@@ -124,11 +123,9 @@ class ContactForceStage(GridStage, ParticleStage):
             full[:d] = value
             vec.update({f"{name}_{c}": full[k] for k, c in enumerate("xyz")})
         layer = self.params.contact_layer + ON_SURFACE * self.grid.h
-        vec.update(spacing=spacing, layer=layer, condition=CONDITIONS[self.params.condition],
-                   mu=self.params.friction, xi=0.0, drag=0.0, band=layer - self.grid.h, **(extra or {}))
-        if self.params.condition == "voellmy":
-            vec.update(xi=self.params.xi, drag=self.voellmy_density * float(np.linalg.norm(self.gravity))
-                       * self.grid.h ** (d - 1))
+        g = float(np.linalg.norm(self.gravity))
+        vec.update(spacing=spacing, layer=layer, condition=CONDITIONS[self.params.condition], mu=self.params.friction,
+                   **voellmy_slots(self.params, self.voellmy_rho, g, self.grid.h, d, layer), **(extra or {}))
         return pack_in_layout(layout, vec, f"stage '{self.label}'")
 
     def grid_reduced(self, out, dt, time, remap):
@@ -164,9 +161,8 @@ class ContactForceStage(GridStage, ParticleStage):
         first, window = self.impact.first_contact, self.impact.window
         if first is not None and t > first + window:
             return
-        depth, speed, rho = self.probe.reading
-        if self.approach is None or rho * speed * speed * depth > momentum_flux(self.approach):
-            self.approach = (depth, speed, rho, self.probe.velocity.copy())
+        if self.approach is None or momentum_flux(self.probe.reading) > momentum_flux(self.approach):
+            self.approach = (*self.probe.reading, self.probe.velocity.copy())
 
     def supplied_speed(self) -> float:
         return float(np.linalg.norm(self.vel))

@@ -37,3 +37,18 @@ def flow_density(params, scene, label: str) -> float:
         raise CaseError([(label, f"the materials' densities differ ({', '.join(f'{r:g}' for r in rhos)} kg/m3): give "
                                  "the Voellmy friction's 'density' [kg/m3]")])
     return rhos[0]
+
+
+def voellmy_slots(params, rho: float | None, g: float, h: float, d: int, layer: float) -> dict:
+    """The packed Voellmy entries of a surface (contact/voellmy.py): xi [m/s2], the node drag rho g h^(d-1)
+    and the lowest signed distance of the nodes that take it, layer - h [m]; zeros unless 'voellmy' (rho:
+    flow_density's, None otherwise)."""
+    slots = {"xi": 0.0, "drag": 0.0, "band": layer - h}
+    if params.condition == "voellmy":
+        slots.update(xi=params.xi, drag=rho * g * h ** (d - 1))
+    return slots
+
+
+def voellmy_density(params, scene, label: str) -> float | None:
+    """flow_density for a surface whose condition is 'voellmy', None otherwise."""
+    return flow_density(params, scene, label) if params.condition == "voellmy" else None
