@@ -27,6 +27,17 @@ from typing import ClassVar
 from geompm.parallel.whole import WHOLE
 
 
+def mass_floor(scene) -> float:
+    """The grid's mass below which a node is empty [kg]: 1e-9 of the smallest particle mass of the scene, counting
+    the particles its sources add (contract/stages.ParticleSource), so a scene that starts empty has one too."""
+    from geompm.contract.stages import ParticleSource
+
+    st = scene.state
+    masses = [float(st.p_mass.min())] if st.n else []
+    masses += [s.particle_mass() for s in scene.stages if isinstance(s, ParticleSource) and s.particle_mass() > 0]
+    return 1e-9 * min(masses) if masses else 0.0
+
+
 class Backend:
     name: ClassVar[str] = ""
     #: the run's decomposition over processes (parallel/whole.py, parallel/slabs.py): the backend asks it
@@ -35,6 +46,11 @@ class Backend:
     #: largest |L_ii| [1/s] found by the last update_stress; None when unknown (before the first step,
     #: after a restore): the time step then takes it from the particles
     max_rate: float | None = None
+
+    def particles_added(self) -> None:
+        """A source added particles to the host state (a device backend would take them over here): what was
+        measured on the old particles no longer applies."""
+        self.max_rate = None
 
     def stable_dt(self) -> float:
         """The next step [s] (backend/timestep.py) from the particles' speeds, densities and the last

@@ -22,7 +22,7 @@ from geompm.kernels.transfer2d import g2p_2d, p2g_2d
 from geompm.kernels.transfer3d import g2p_3d, p2g_3d
 from geompm.kernels.vectorised import Vectorised
 from geompm.contract.stages import DRY_NODE, FAR_NODE, GridStage, ParticleStage
-from geompm.backend.base import Backend, relaxed_materials
+from geompm.backend.base import Backend, mass_floor, relaxed_materials
 from geompm.backend.cpu_loops import update_law_block
 from geompm.backend.cpu_loops import block_loops
 from geompm.backend.cpu_stage_loops import merge_loop, node_loop, particle_loop
@@ -46,7 +46,7 @@ class CpuBackend(Backend):
         self.scheme = scheme_tag(scene.transfer)
         self.flip = scene.transfer == "flip"
         self.buffers = GridBuffers(scene.grid, nchunks, split_force, scene.state.dtype)
-        self.mass_eps = 1e-9 * float(self.state.p_mass.min()) if self.state.n else 0.0
+        self.mass_eps = mass_floor(scene)
         #: largest |L_ii| [1/s] of the last stress update (its by-product), None before the first step
         self.max_rate = None
         for mat in scene.materials:

@@ -40,7 +40,7 @@ from geompm.kernels.stencil import SCHEMES
 from geompm.contract.stages import DRY_NODE, FAR_NODE
 from geompm.backend import cuda_kernels as K
 from geompm.backend import cuda_loops, cuda_sort
-from geompm.backend.base import Backend, relaxed_materials
+from geompm.backend.base import Backend, mass_floor, relaxed_materials
 
 #: the particle arrays that live on the device (and the scheme's own: its passes' ``device_arrays``)
 DEVICE_ARRAYS = ("p_x", "p_x0", "p_v", "p_C", "p_mass", "p_vol", "p_rho", "p_stress", "p_L")
@@ -88,7 +88,7 @@ class CudaBackend(Backend):
         self.S = support(g.kind)
         self.mode = SCHEMES.index(scene.transfer)
         self.buffers = _DeviceGrid(g, split_force, self.state.dtype)
-        self.mass_eps = 1e-9 * float(self.state.p_mass.min()) if self.state.n else 0.0
+        self.mass_eps = mass_floor(scene)
         self.max_rate = None
         self._origin = cuda.to_device(np.ascontiguousarray(g.origin, dtype=np.float64))
         self._gravity = cuda.to_device(np.ascontiguousarray(scene.gravity, dtype=np.float64))

@@ -56,6 +56,7 @@ def law_speeds(scene, state, finite_only: bool = False, materials=None) -> float
 def wave_limit(scene, state, materials=None) -> float:
     """The CFL step cfl h / max_p(c_p + |v_p|) [s], infinite at rest in a material without waves."""
     speed = wave_speed(scene, state, materials=materials) + (max_speed(state.p_v) if state.n else 0.0)
+    speed = max(speed, entering_speed(scene, materials))
     return scene.cfl * scene.grid.h / speed if speed > 0.0 else float("inf")
 
 
@@ -72,8 +73,26 @@ def stable_dt(scene, state, rate: float | None = None) -> float:
         return scene.dt_fixed
     if rate is None:
         rate = max_rate(state.p_L) if state.n else 0.0
-    speed = wave_speed(scene, state) + (max_speed(state.p_v) if state.n else 0.0)
+    speed = max(wave_speed(scene, state) + (max_speed(state.p_v) if state.n else 0.0), entering_speed(scene))
     return step_limit(scene, speed, rate)
+
+
+def entering_speed(scene, materials=None) -> float:
+    """Largest c + |v| [m/s] of the particles the scene's sources add (contract/stages.ParticleSource): the law's
+    wave speed at its reference density plus the speed they enter with; 0 without sources (``materials`` as in
+    ``wave_speed``)."""
+    import numpy as np
+
+    from geompm.backend.cpu_loops import law_wave_speed
+    from geompm.contract.stages import ParticleSource
+
+    out = 0.0
+    for s in scene.stages:
+        entry = s.entering() if isinstance(s, ParticleSource) else None
+        if entry is not None:
+            mat = (scene.materials if materials is None else materials)[entry[0]]
+            out = max(out, law_wave_speed(mat, np.array([mat.density])) + entry[1])
+    return out
 
 
 def below_dt_min(scene, dt: float) -> bool:

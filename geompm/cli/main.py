@@ -67,6 +67,8 @@ def cmd_validate(args) -> int:
     print(f"scheme '{scheme.name}', a step's passes: {' -> '.join(scheme.passes)}")
     for line in scheme.report(scene):
         print(line)
+    for source in scene.inflows:
+        print(source.describe())
     if scene.strength_trigger is not None:
         times, factors, ids = scene.strength_trigger
         names = ", ".join(scene.material_names[k] for k in ids)

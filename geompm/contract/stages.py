@@ -3,7 +3,8 @@
 - ``GridStage``: acts on grid velocities after the grid update (boundaries,
   obstacles, grid damping) through a per-node function;
 - ``ParticleStage``: acts on particles after G2P (particle damping, the
-  obstacles' penetration guard) through a per-particle function.
+  obstacles' penetration guard) through a per-particle function;
+- ``ParticleSource``: adds particles between steps (an inflow hydrograph), on the host.
 A stage may be both: a rigid obstacle acts on grid nodes and then on the
 particles that still got inside it.  The stage gives the functions, its
 packed parameters and a host-side hook for what its pass accumulated (a
@@ -254,6 +255,40 @@ class ParticleStage(Stage):
 
     def particle_reduced(self, out, dt: float, time: float) -> None:
         """The pass's accumulator rows (threads, particle_reduction), on the host (reused by the next pass)."""
+
+
+class ParticleSource(Stage):
+    """A stage that adds particles between steps (an inflow hydrograph), on the host, before the particles go
+    to their ranks: ``supply(time)`` gives the particles due by ``time`` as a packet of parallel/migrate.py
+    (arrays by name, each material's state variables, counts per material block), or None.  It runs on every
+    rank with the same arguments and gives the same count everywhere; the engine merges the root rank's
+    packet only (the next migration sends each particle to its rank)."""
+
+    def supply(self, state, time: float):
+        """The packet of the particles due by ``time`` [s] in the dtypes of ``state``, or None."""
+        return None
+
+    def pending(self, time: float) -> bool:
+        """Whether particles are still to come after ``time`` (a run whose particles have all left does not end
+        while they are)."""
+        return False
+
+    def particles_total(self) -> int:
+        """How many particles the source adds over the whole run (the memory check before any work)."""
+        return 0
+
+    def describe(self) -> str:
+        """What `geompm validate` prints about the source (its volume, particles, depth and speed), or ''."""
+        return ""
+
+    def entering(self) -> tuple[int, float] | None:
+        """(material id, largest speed [m/s]) of the particles the source adds: the first step's estimate counts
+        them (backend/timestep.stable_dt); None for a source that adds none."""
+        return None
+
+    def particle_mass(self) -> float:
+        """The mass [kg] of one added particle (the grid's smallest mass of note in a scene that starts empty)."""
+        return 0.0
 
 
 #: the ``aux`` of a stage that has no lookup table

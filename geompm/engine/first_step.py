@@ -71,12 +71,20 @@ def fixed_step_problem(scene) -> tuple[str, str] | None:
 
 def first_step_estimate(scene) -> tuple[float, int, float]:
     """(bytes of memory, active grid nodes, first time step [s]) of an assembled scene."""
-    from geompm.mpm.memory import grid_bytes, window_nodes
+    from geompm.mpm.memory import grid_bytes, particle_bytes, window_nodes
+
+    from geompm.contract.stages import ParticleSource
 
     st = scene.state
-    nodes = window_nodes(st.p_x.min(axis=0), st.p_x.max(axis=0), scene.grid.h)
+    added = sum(s.particles_total() for s in scene.stages if isinstance(s, ParticleSource))
+    if added or not st.n:  # what the sources add may go anywhere in the grid
+        nodes = window_nodes(scene.grid.origin, scene.grid.upper, scene.grid.h)
+    else:
+        nodes = window_nodes(st.p_x.min(axis=0), st.p_x.max(axis=0), scene.grid.h)
     extra = nodes * type(scene.scheme).node_bytes(scene.dim, scene.grid.kind)
-    return st.nbytes() + grid_bytes(nodes, scene.dim) + extra, nodes, stable_dt(scene, st)
+    particles = st.nbytes() + added * particle_bytes(scene.dim, max((len(m.state_vars) for m in scene.materials),
+                                                                    default=0))
+    return particles + grid_bytes(nodes, scene.dim) + extra, nodes, stable_dt(scene, st)
 
 
 def stage_warnings(scene, emit, loaded=None) -> None:

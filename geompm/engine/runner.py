@@ -216,7 +216,7 @@ class Runner:
         try:
             self._emit(force=not self.resumed)
             while sim.time < end * (1 - 1e-12):
-                if sim.count() == 0:
+                if sim.count() == 0 and not sim.pending():
                     self.warn_once("empty", f"every particle has left the grid by t = {sim.time:.6g} s: "
                                             "the run ends here")
                     break

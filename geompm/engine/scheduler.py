@@ -15,9 +15,11 @@ from __future__ import annotations
 import numpy as np
 
 from geompm.backend import make_backend
+from geompm.backend.timestep import entering_speed, step_limit
 from geompm.kernels.reduce import kinetic_energy, max_coordinate, max_coordinate_by_group
 from geompm.engine.triggers import strength_schedule
 from geompm.mpm.water_table import water_table_of
+from geompm.parallel.migrate import merge
 from geompm.parallel.whole import WHOLE
 from geompm.schemes.base import StepContext
 
@@ -37,7 +39,16 @@ class Simulation(StepContext):
         self.water = water_table_of(scene)
 
     def step(self, dt: float) -> None:
-        """One step of the scene's scheme."""
+        """One step of the scene's scheme, the clock only while a scene with sources holds no particle; then the
+        sources' particles due by the step's end (what is written at that time holds them)."""
+        if self.sources:
+            self.supply()
+            if self.count() == 0:
+                self.dt, self.time, self.step_count = dt, self.time + dt, self.step_count + 1
+            else:
+                self.scheme.step(self, dt)
+            self.supply()
+            return
         self.scheme.step(self, dt)
 
     @property
@@ -45,7 +56,13 @@ class Simulation(StepContext):
         return self.backend.buffers
 
     def stable_dt(self) -> float:
-        return self.domain.stable_dt(self.backend)
+        """The next step [s]: the sources' particles due now are added first (their speeds count); while the run
+        holds no particle, the step of the particles to come (c + v of ``entering_speed``)."""
+        self.supply()
+        dt = self.domain.stable_dt(self.backend)
+        if self.sources and self.count() == 0:  # the step of the particles to come (they enter less than a cell late)
+            dt = min(dt, step_limit(self.scene, entering_speed(self.scene), 0.0))
+        return dt
 
     def distribute(self) -> None:
         """Keep this rank's particles of the whole state every rank holds (before the first step, after a
@@ -58,6 +75,19 @@ class Simulation(StepContext):
 
     def load(self) -> None:
         self.water.load(self.backend, self.state, self.time)
+
+    def supply(self) -> None:
+        """Each source's particles due by now, merged into the root rank's state (parallel/migrate.py; the
+        migration that follows sends them to their ranks); every rank asks every source, so their counts agree."""
+        for source in self.sources:
+            packet = source.supply(self.state, self.time)
+            if packet is not None and self.domain.comm.is_root:
+                merge(self.state, np.ones(self.state.n, bool), [packet])
+                self.backend.particles_added()
+
+    def pending(self) -> bool:
+        """Whether a source has particles still to add."""
+        return any(s.pending(self.time) for s in self.sources)
 
     def external_force(self, view, dt: float) -> None:
         self.water.force(self.backend, self.state, view, dt)
@@ -96,6 +126,6 @@ class Simulation(StepContext):
         row.update(self.strength.series(self.time))
         row.update(self.water.series(self.time))
         row.update(self.scheme.series(self))
-        for stage in dict.fromkeys(self.grid_stages + self.particle_stages):  # a stage of both kinds once
+        for stage in dict.fromkeys(self.grid_stages + self.particle_stages + self.sources):  # each stage once
             row.update(stage.series())
         return row

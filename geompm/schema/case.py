@@ -445,6 +445,36 @@ class ProbeSpec(Strict):
                                                        "normal); default against gravity")
 
 
+class InflowSpec(Strict):
+    """Particles entering through a cross-section with a hydrograph's discharge (sources/inflow.py)."""
+
+    name: str = Field(pattern=NAME_PATTERN, description="Name: series.csv columns <name>_volume_in [m3; m2 per "
+                                                        "metre in 2D] and <name>_discharge")
+    material: str = Field(description="The material that flows in (a key of 'materials')")
+    section: list[Vector] = Field(min_length=1, max_length=1000, description=(
+        "The gate on the bed [m]: in 2D one point [x, y]; in 3D a polyline across the channel, points [x, y, z] "
+        "or [x, y] on the ground below (terrain, plane or obstacle)"))
+    direction: Vector = Field(description="The direction the flow crosses the gate in (e.g. down the bed); the "
+                                          "depth is measured along the part of -gravity normal to it")
+    hydrograph: str | None = Field(None, description=(
+        "CSV file (relative to the case) with a header naming 'time' [s], 'discharge' [m3/s; m2/s per metre in "
+        "2D] and 'velocity' [m/s] or 'depth' [m]; linear between rows, zero discharge outside them"))
+    table: list[list[float]] | None = Field(None, min_length=2, max_length=100_000, description=(
+        "The hydrograph inline instead of a file: rows [time s, discharge, velocity or depth] (see 'columns')"))
+    columns: Literal["velocity", "depth"] = Field("velocity", description="What the table's third column is: the "
+                                                                          "speed [m/s] or the depth [m] at the gate")
+    particles_per_cell: int = Field(2, ge=1, le=8, description="Particles per cell along each axis: spacing "
+                                                               "cell_size / particles_per_cell")
+
+    @model_validator(mode="after")
+    def _one_table(self):
+        if (self.hydrograph is None) == (self.table is None):
+            raise ValueError("give the hydrograph as a CSV file ('hydrograph') or inline ('table'), one of them")
+        if self.table is not None and any(len(r) != 3 for r in self.table):
+            raise ValueError("every row of 'table' has three numbers: time [s], discharge, velocity or depth")
+        return self
+
+
 class StrengthReductionSpec(Strict):
     times: list[float] = Field(min_length=1, max_length=1000,
                                description="Times [s] of the schedule's points, non-decreasing")
@@ -560,12 +590,15 @@ class Case(Strict):
                                               "CRS is refused")
     solver: SolverSpec = Field(default_factory=SolverSpec)
     materials: dict[str, MaterialSpec] = Field(min_length=1)
-    bodies: list[BodySpec] = Field(min_length=1)
+    bodies: list[BodySpec] = Field(default_factory=list, description="The bodies of material at the start "
+                                                                     "(none: every particle comes from 'inflows')")
     boundaries: list[PluginSpec] = Field(default_factory=list)
     obstacles: list[PluginSpec] = Field(default_factory=list)
     damping: list[DampingSpec] = Field(default_factory=list)
     probes: list[ProbeSpec] = Field(default_factory=list, description="Columns of the flow measured every step "
                                                                        "(depth, speed, discharge)")
+    inflows: list[InflowSpec] = Field(default_factory=list, max_length=100, description=(
+        "Cross-sections through which material enters with a hydrograph's discharge (sources/inflow.py)"))
     outputs: list[OutputSpec] = Field(default_factory=list)
     run: RunSpec = Field(default_factory=RunSpec)
     triggers: TriggersSpec | None = Field(None, description="What changes over the run to take a slope to failure "
@@ -588,3 +621,10 @@ class Case(Strict):
         except CRSError:
             raise ValueError(f"'{v}' is not a coordinate reference system GDAL knows; give e.g. 'EPSG:2056'") from None
         return v
+
+    @model_validator(mode="after")
+    def _some_material(self):
+        if not self.bodies and not self.inflows:
+            raise ValueError("the case has no material: give at least one body in 'bodies' or an inflow in "
+                             "'inflows'")
+        return self

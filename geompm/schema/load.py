@@ -27,6 +27,7 @@ from geompm.kernels.stencil import LINEAR_APIC, linear_apic
 from geompm.mpm.memory import available_memory, grid_bytes, particle_bytes, window_nodes
 from geompm.schema.case import Case, DampingSpec, MaterialSpec, OutputSpec, PluginSpec
 from geompm.schema.errors import format_validation_error
+from geompm.schema.inflows import inflow_particles, inflow_problems
 from geompm.schema.pore_water import pore_water_problems
 from geompm.schema.scheme import resolve_scheme
 from geompm.schema.raw_checks import TOO_DEEP, merge, raw_problems
@@ -55,6 +56,8 @@ class LoadedCase:
     outputs: list[Resolved] = field(default_factory=list)
     #: the time-step scheme's class (schema/scheme.py), None until resolved
     scheme: type | None = None
+    #: each inflow's hydrograph (sources/hydrograph.Hydrograph; None where it cannot be read), in case order
+    hydrographs: list = field(default_factory=list)
     #: (JSON path, message): settings the case gives that do nothing (ineffective_settings)
     warnings: list[tuple[str, str]] = field(default_factory=list)
 
@@ -377,16 +380,21 @@ def _parse_valid_numbers(raw: dict, base_dir: Path) -> LoadedCase:
     _plugin_pass(raw, case, loaded, problems)
     problems.extend(duplicate_labels(loaded))
     problems.extend(probe_problems(case, loaded))
+    problems.extend(inflow_problems(case, loaded))
     problems.extend(pore_water_problems(case, loaded))
     problems.extend(trigger_problems(case, loaded))
     loaded.scheme, why = resolve_scheme(case)
     problems.extend(why)
     if loaded.scheme is not None:
+        if case.inflows and loaded.scheme.fields:
+            problems.append(("inflows", f"the '{loaded.scheme.name}' step carries particle fields of its own "
+                                        f"({', '.join(f.name for f in loaded.scheme.fields)}) that an inflow does "
+                                        "not set: inflows take dry or fluid materials"))
         problems.extend(loaded.scheme.problems(case, loaded))
         loaded.warnings.extend(loaded.scheme.warnings(case))
     loaded.warnings.extend(plausibility_warnings(loaded))
     if not problems:
-        _check_memory(case, problems, loaded.scheme)
+        _check_memory(case, problems, loaded.scheme, inflow_particles(case, loaded))
     if problems:
         raise CaseError(problems, warnings=loaded.warnings)
     return loaded
@@ -478,13 +486,16 @@ def probe_problems(case: Case, loaded) -> list[tuple[str, str]]:
     return out
 
 
-def _check_memory(case: Case, problems, scheme=None) -> None:
+def _check_memory(case: Case, problems, scheme=None, added: float = 0.0) -> None:
     """Refuse a case whose particles and grid window would not fit in the available memory.
 
     Particle counts come from each body's bounding box (an upper bound), before
-    anything is seeded."""
+    anything is seeded, and ``added`` the inflows add over the run (their window: the whole grid)."""
     dim, h = case.dimension, case.grid.cell_size
-    particles, lo, hi = 0.0, None, None
+    particles, lo, hi = added, None, None
+    if added:
+        lo = np.asarray(case.grid.origin, float)
+        hi = lo + np.asarray(case.grid.extent, float)
     for body in case.bodies:
         g = body.geometry
         if g.type == "box":

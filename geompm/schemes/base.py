@@ -34,7 +34,7 @@ from typing import ClassVar, NamedTuple
 
 import numpy as np
 
-from geompm.contract.stages import GridStage, ParticleStage
+from geompm.contract.stages import GridStage, ParticleSource, ParticleStage
 from geompm.parallel.whole import WHOLE
 
 
@@ -227,6 +227,7 @@ class StepContext:
             stage.comm = domain.comm
         self.grid_stages = [s for s in stages if isinstance(s, GridStage)]
         self.particle_stages = [s for s in stages if isinstance(s, ParticleStage)]
+        self.sources = [s for s in stages if isinstance(s, ParticleSource)]
         self.time = 0.0
         self.step_count = 0
         self.dt = 0.0
@@ -249,8 +250,12 @@ class StepContext:
     def external_force(self, view, dt: float) -> None:
         """Nodal forces from outside the particles' stress after P2G (a pond's buoyancy: engine/scheduler.py)."""
 
+    def supply(self) -> None:
+        """The particles the sources add before the step (an inflow hydrograph: engine/scheduler.py)."""
+
     def window(self):
-        """Particles to their rank, the sort when due, and this rank's grid window."""
+        """The sources' new particles, particles to their rank, the sort when due, and this rank's grid window."""
+        self.supply()
         self.domain.before_step(self)
         self.sort_if_due()
         return self.domain.window(self.backend)

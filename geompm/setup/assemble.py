@@ -16,6 +16,7 @@ from geompm.mpm.grid import GridSpec
 from geompm.mpm.state import ParticleState
 from geompm.errors import CaseError
 from geompm.probes.section import ProbeStage
+from geompm.sources.inflow import Inflow
 from geompm.setup.release import Release
 from geompm.setup.release_checks import release_checks
 from geompm.setup.bodies import overlap_problems, seed_body
@@ -61,6 +62,7 @@ class Scene:
     obstacles: list = field(default_factory=list)
     damping: list = field(default_factory=list)
     probes: list = field(default_factory=list)  # probes/section.ProbeStage, in the case's order
+    inflows: list = field(default_factory=list)  # sources/inflow.Inflow, in the case's order
     writers: list = field(default_factory=list)
     body_materials: list = field(default_factory=list)  # the material name of each body, in case order
     crs: str | None = None  # the case's coordinate reference system ("EPSG:2056"), if it states one
@@ -75,6 +77,8 @@ class Scene:
     #: solver.viscoplastic_time [s]: the laws' Duvaut-Lions relaxation time (kernels/viscoplastic.py), or None
     viscoplastic_time: float | None = None
     case_text: str = ""  # the case as JSON, for provenance only (the HDF5 file's attribute); never parsed
+    #: the id the next particle a source adds takes (p_id: the assembled particles' are 0 .. n-1)
+    next_particle_id: int = 0
 
     @property
     def stages(self) -> list:
@@ -82,7 +86,7 @@ class Scene:
         case's order (the scheduler sorts them by phase, stably).  Read capabilities from this list
         (``Stage.records_force``, ``supplies_energy``, ``provides_ground``), never by the section a stage
         came from."""
-        return [*self.boundaries, *self.obstacles, *self.damping, *self.probes]
+        return [*self.boundaries, *self.obstacles, *self.damping, *self.probes, *self.inflows]
 
 
 def _body_velocity(body, pts, dim):
@@ -204,6 +208,10 @@ def assemble(loaded: LoadedCase) -> Scene:
     overlaps = overlap_problems(xs, tests)
     if overlaps:
         raise CaseError(overlaps)
+    if not xs:  # every particle comes from the inflows
+        xs, vs, ms, vols = [np.zeros((0, dim))], [np.zeros((0, dim))], [np.zeros(0)], [np.zeros(0)]
+        mids, bids, k0s, geo = [np.zeros(0, np.int32)], [np.zeros(0, np.int32)], [np.zeros(0)], [np.zeros(0, bool)]
+        extras = [None]
     p_x, p_mass, p_vol = np.concatenate(xs), np.concatenate(ms), np.concatenate(vols)
     # overburden from every body; stress only where the body asks for it, in its own surface frame
     k0_all, body_of = np.concatenate(k0s), np.concatenate(bids)
@@ -270,6 +278,11 @@ def assemble(loaded: LoadedCase) -> Scene:
             stage = r.cls(r.params, r.label, r.path)
             stage.setup(scene)
             getattr(scene, attr).append(stage)
+    scene.next_particle_id = state.n
+    for i, (spec, hg) in enumerate(zip(case.inflows, loaded.hydrographs)):  # last: a gate lies on the solids
+        inflow = Inflow(spec, spec.name, f"inflows.{i}", hg)
+        inflow.setup(scene)
+        scene.inflows.append(inflow)
     _check_bodies_clear(scene)
     scheme.after_stages(scene)
     return scene

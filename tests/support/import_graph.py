@@ -24,7 +24,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("files",),
     ("parallel",),
     ("materials", "damping", "contact"),
-    ("boundaries", "obstacles", "probes"),
+    ("boundaries", "obstacles", "probes", "sources"),
     ("backend",),
     ("schemes",),
     ("writers",),
