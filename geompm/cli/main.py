@@ -170,6 +170,9 @@ def cmd_info(args) -> int:
         if m.get("travel_angle_deg") is not None:
             print(f"travel       runout {m['runout_length_m']:.4g} m, drop H = {m['drop_height_m']:.4g} m, "
                   f"H/L = {m['drop_height_m'] / m['runout_length_m']:.3f} (travel angle {m['travel_angle_deg']:.3g} deg)")
+        if m.get("runout_thalweg_m") is not None:
+            print(f"thalweg      runout {m['runout_thalweg_m']:.4g} m along the line of steepest descent from the "
+                  "release's top")
     return 0
 
 

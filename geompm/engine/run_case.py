@@ -172,6 +172,7 @@ def write_status(run_dir: Path, scene, runner, summary, finished: bool, reason: 
         "front_x": front if n else None,
         "obstacles": {o.label: {"peak_force": pk[0], "peak_time": pk[1], **hot_spot(o), **o.impact_report()}
                       for o in scene.stages if o.records_force and (pk := o.peak_force()) is not None},
+        "grounds": [o.label for o in scene.stages if o.provides_ground],
         **({"mpi": {**sim.domain.report(sim.state), "peak_rss_bytes_per_rank": rss}} if comm.size > 1 else {}),
         **({"gravity_loading": scene.loading} if scene.loading else {}),
         "geompm": __version__,

@@ -23,6 +23,7 @@ from geompm.schema.load import apply_overrides, load_case, read_json
 from geompm.study import metrics as M
 from geompm.study import report
 from geompm.study.execute import Pool, add_threads_option, check_threads, finished, run_variant, threads_per_run, variant_case
+from geompm.study.maps import ensemble_maps
 from geompm.study.plan import build_plan, parse_sample, parse_vary
 
 SCALARS = ("runout", "height", "peak_force", "impulse")
@@ -58,13 +59,15 @@ def add_parser(sub) -> None:
 
 
 def series_only(raw: dict) -> list[str]:
-    """A --set that keeps only the case's series writer (one is added at the finest output interval if absent)."""
+    """A --set that keeps only the case's series writer (one is added at the finest output interval if absent)
+    and its hazard maps (small rasters: the study's ensemble maps are made of them)."""
     outs = raw.get("outputs", [])
     if not isinstance(outs, list) or not all(isinstance(o, dict) for o in outs):
         return []  # not a list of writers: left as it is, for the case check to refuse with its JSON path
     keep = [o for o in outs if o.get("writer") == "series"]
     if not keep:
         keep = [{"writer": "series", "interval": min((o.get("interval", 0.0) for o in outs), default=0.0)}]
+    keep += [o for o in outs if o.get("writer") == "hazard_maps"]
     return [f"outputs={json.dumps(keep)}"]
 
 
@@ -113,11 +116,16 @@ def load_reference(spec: str | None, has_vary: bool):
     return M.scalar_metrics(series, status), series
 
 
-def _metric_names(requested: list[str], series_list) -> tuple[list[str], list[str]]:
-    """(scalar metric names, series columns) to report."""
+def _metric_names(requested: list[str], series_list, rows=()) -> tuple[list[str], list[str]]:
+    """(scalar metric names, series columns) to report: the obstacles' are those the rows have (a ground's
+    force is none: metrics.scalar_metrics), the hazard maps' where the runs wrote them."""
     cols = set().union(*[set(s) for s in series_list if s is not None]) if series_list else set()
     labels = sorted({lab for s in series_list if s is not None for lab in M.obstacle_labels(s)})
-    wanted = requested or ["runout", "height", "peak_force", "filtered_peak_force", "impulse", *M.SERIES_DEFAULT]
+    if rows:  # those the finished runs measured (a ground's force is not a metric)
+        labels = [lab for lab in labels if any(f"peak_force:{lab}" in r for r in rows)]
+    maps = [m for m in M.MAP_METRICS.values() if any(m in r for r in rows)]
+    wanted = requested or ["runout", "height", "peak_force", "filtered_peak_force", "impulse", *maps,
+                           *M.SERIES_DEFAULT]
     scalars, columns = [], []
     fronts = sorted({c[len("front_x_"):] for s in series_list if s is not None
                      for c in s if c.startswith("front_x_")})
@@ -137,6 +145,8 @@ def _metric_names(requested: list[str], series_list) -> tuple[list[str], list[st
             scalars += [f"{name}:{lab}" for lab in labels]
         elif name.partition(":")[0] in OBSTACLE_SCALARS and name.partition(":")[2] in labels:
             scalars.append(name)  # one obstacle's: peak_force:LABEL, impulse:LABEL, alpha:LABEL ...
+        elif name in M.MAP_METRICS.values():
+            scalars.append(name)
         elif name in cols or name in M.SERIES_DEFAULT:
             columns.append(name)
     return scalars, columns
@@ -148,7 +158,7 @@ def check_metrics(requested: list[str]) -> None:
         raise CaseError([("--metric", f"'{bad[0]}' is not a metric name; give one name per --metric")])
 
 
-STUDY_FILES = {"runs", "study.csv", "study_summary.json", "study.png"}
+STUDY_FILES = {"runs", "study.csv", "study_summary.json", "study.png", "maps"}
 
 
 def _prepare_folder(out: Path, args) -> None:
@@ -214,7 +224,7 @@ def cmd_study(args) -> int:
 
     pairs = [report.run_row(v, dirs[v.name], outcomes.get(v.name)) for v in variants]
     rows, series = [p[0] for p in pairs], [p[1] for p in pairs]
-    scalar_names, series_names = _metric_names(args.metric, series)
+    scalar_names, series_names = _metric_names(args.metric, series, rows)
     ref_name = None
     if reference == "finest":
         i = report.finest(rows)
@@ -229,11 +239,18 @@ def cmd_study(args) -> int:
         report.add_errors(rows, series, reference[0], reference[1], scalar_names, series_names)
     report.write_csv(out / "study.csv", rows)
 
+    done = [dirs[r["variant"]] for r in rows if r["status"] == "finished"]
+    try:
+        maps = ensemble_maps(out, done)
+    except ValueError as exc:
+        maps = None
+        print(f"warning: no ensemble maps: {exc}", file=sys.stderr)
     orders = report.convergence_orders(rows, list(vary), scalar_names, series_names)
     summary = {"case": str(case), "variants": len(rows), "finished": sum(r["status"] == "finished" for r in rows),
                "reference": ref_name, "varied": vary, "sampled": {k: f"{d}{tuple(a)}" for k, (d, a) in samples.items()},
                "seed": args.seed if samples else None, "orders": orders,
-               "distribution": report.distribution(rows, scalar_names) if samples else {}}
+               "distribution": report.distribution(rows, scalar_names) if samples else {},
+               **({"maps": maps} if maps else {})}
     atomic_write_json(out / "study_summary.json", json.loads(json.dumps(summary, default=str)))
     errs = [f"{n}_error" for n in scalar_names] + [f"{c}_l2_error" for c in series_names]
     try:
@@ -270,5 +287,10 @@ def _print_summary(rows, summary, errs, out: Path, made: bool, scalars=()) -> No
     for name, d in summary["distribution"].items():
         print(f"{name}: mean {shown(d['mean'])}, sd {d['std']:.3g}, 5% {shown(d['p05'])}, median {shown(d['p50'])}, "
               f"95% {shown(d['p95'])} (n = {d['n']})")
+    maps = summary.get("maps")
+    if maps:
+        print(f"ensemble maps of {maps['runs']} runs in {out / 'maps'}: probability of reach, and the 50th and 90th "
+              f"percentiles of depth, speed and pressure; area reached by any run {maps['area_reached_by_any_m2']:.6g} "
+              f"m2, by half {maps['area_reached_by_half_m2']:.6g} m2, by all {maps['area_reached_by_all_m2']:.6g} m2")
     print(f"wrote {out / 'study.csv'}" + (f", {out / 'study.png'}" if made else "") + f", {out / 'study_summary.json'}")
     sys.stdout.flush()

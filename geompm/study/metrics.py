@@ -21,7 +21,14 @@ Scalar metrics (one number per run):
   static load [N; N/m in 2D];
 - ``alpha:LABEL``, ``hydrostatic_ratio:LABEL``: the filtered peak as the
   hydrodynamic and hydrostatic coefficients of the approach flow its probe
-  measured (contact/impact_design.py) [-].
+  measured (contact/impact_design.py) [-];
+- with hazard maps (writers/hazard_maps.py, maps/summary.json): ``impact_area`` [m2],
+  ``runout_length`` (horizontal, from the release's top) and ``runout_thalweg``
+  (along the line of steepest descent from it) [m], ``travel_angle`` [deg] and
+  ``deposit_volume`` [m3].
+The obstacles that are a ground (``status.json``'s ``grounds``: a terrain) give no
+force metrics: the weight and friction of a flow on the ground it runs over is no
+design load.
 
 Time-series metrics: ``front_x``, ``kinetic_energy`` and any other series.csv
 column (``X_star``, ``K_star``, ...).  Their error is the relative L2 norm
@@ -43,6 +50,10 @@ import numpy as np
 from geompm.writers.series import read_series
 
 SERIES_DEFAULT = ("front_x", "kinetic_energy")
+#: the hazard maps' summary entries (writers/hazard_maps.py) a study reports, by the metric name it gives them
+MAP_METRICS = {"impact_area_m2": "impact_area", "runout_length_m": "runout_length",
+               "runout_thalweg_m": "runout_thalweg", "travel_angle_deg": "travel_angle",
+               "deposit_volume_m3": "deposit_volume"}
 #: status.json's impact entries that a study can ask for per obstacle (contact/impact.py, impact_design.py)
 IMPACT_METRICS = ("filtered_peak_force", "final_force", "alpha", "hydrostatic_ratio")
 
@@ -89,7 +100,13 @@ def scalar_metrics(series: dict, status: dict | None = None) -> dict[str, float]
     if "deposit_height" in series and len(series["deposit_height"]):
         out["height"] = float(series["deposit_height"][-1])
     peaks = (status or {}).get("obstacles", {})
+    grounds = set((status or {}).get("grounds", ()))
+    for key, value in ((status or {}).get("maps") or {}).items():
+        if key in MAP_METRICS and isinstance(value, (int, float)):
+            out[MAP_METRICS[key]] = float(value)
     for label in obstacle_labels(series):
+        if label in grounds:  # the force on the ground a flow runs over is no design load
+            continue
         f = force_magnitude(series, label)
         mine = peaks.get(label, {})
         out[f"peak_force:{label}"] = float(mine["peak_force"]) if "peak_force" in mine else float(f.max())
@@ -101,10 +118,13 @@ def scalar_metrics(series: dict, status: dict | None = None) -> dict[str, float]
 
 
 def read_run(run_dir: str | Path) -> tuple[dict, dict]:
-    """(series columns, status) of a run folder."""
+    """(series columns, status) of a run folder; the hazard maps' summary, if written, as status["maps"]."""
     run_dir = Path(run_dir)
     status_file = run_dir / "status.json"
     status = json.loads(status_file.read_text()) if status_file.is_file() else {}
+    maps = run_dir / "maps" / "summary.json"
+    if maps.is_file():
+        status["maps"] = json.loads(maps.read_text())
     return read_series(run_dir / "series.csv"), status
 
 

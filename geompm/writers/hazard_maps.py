@@ -37,7 +37,9 @@ Particles outside the raster are counted in ``volume_outside_m3`` of
 the source and deposit volumes, the peak pressure and speed, and the travel:
 the horizontal distance L from the top of the release (its highest cell,
 ground plus release depth) to the farthest cell the flow reached, the drop
-H between them and the travel angle atan(H / L) (`geompm info` prints them).  Files: ``maps/<name>.tif`` (float64, NoData -9999), written at
+H between them and the travel angle atan(H / L) (`geompm info` prints them), and the runout along the
+thalweg from that top (the line of steepest descent, writers/thalweg.py) to the last of its cells the
+flow reached.  Files: ``maps/<name>.tif`` (float64, NoData -9999), written at
 the end and at every checkpoint, each atomically; the accumulated state at a
 checkpoint goes to ``maps/state.npz`` so a resumed run carries on.
 """
@@ -56,6 +58,7 @@ from geompm.errors import CaseError
 from geompm.files.atomic import atomic_path, atomic_write_json, case_relative
 from geompm.contract.plugin import Params
 from geompm.writers.base import Writer
+from geompm.writers.thalweg import runout_along, thalweg
 
 NODATA = -9999.0
 MAPS = ("depth_max", "speed_max", "pressure_max", "energy_max", "arrival", "deposit", "source")
@@ -304,7 +307,8 @@ class HazardMapWriter(Writer):
         threshold), its drop H and the travel angle atan(H / L) (the Fahrboeschung of practice)."""
         src = self.maps["source"] > 0.0
         if not src.any() or not flowed.any():
-            return {"runout_length_m": None, "drop_height_m": None, "travel_angle_deg": None}
+            return {"runout_length_m": None, "drop_height_m": None, "travel_angle_deg": None,
+                    "runout_thalweg_m": None}
         nx, ny = self.depth.shape
         cx = self.x0 + (np.arange(nx) + 0.5) * self.cx
         cy = self.y0 + (np.arange(ny) + 0.5) * self.cy
@@ -316,7 +320,10 @@ class HazardMapWriter(Writer):
         length = float(dist[far])
         drop = float(ground[top] + self.maps["source"][top] - ground[far])
         angle = math.degrees(math.atan2(drop, length)) if length > 0 else None
-        return {"runout_length_m": length, "drop_height_m": drop, "travel_angle_deg": angle}
+        path, along = thalweg(ground, self.cx, self.cy, top)
+        return {"runout_length_m": length, "drop_height_m": drop, "travel_angle_deg": angle,
+                "runout_thalweg_m": runout_along(path, along, flowed),
+                "thalweg_end": [float(X[path[-1]]), float(Y[path[-1]])]}
 
     def state(self) -> dict:
         self._geotiffs()

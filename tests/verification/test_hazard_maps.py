@@ -221,3 +221,44 @@ def test_a_creeping_column_does_not_arrive():
     accumulate(sums, 1.0, 0.01, 0.1, 59.0, depth, speed, dmax, smax, pmax, emax, arrival)
     assert arrival[0, 0] == -1.0 and arrival[1, 0] == 59.0
     assert dmax[0, 0] == pytest.approx(0.2) and smax[0, 0] == pytest.approx(0.05) and speed[1, 0] == pytest.approx(0.2)
+
+
+@pytest.mark.slow
+def test_a_study_writes_ensemble_maps_and_map_metrics(tmp_path, capsys):
+    """`geompm study` over three friction coefficients of the site case: maps/probability_of_reach.tif is the
+    fraction of runs whose depth_max reached the threshold (k/3, NoData where none did), depth_max_p50.tif the
+    median of the runs' depth_max with 0 where a run did not reach, on the DEM's raster; study.csv carries each
+    run's impact area and runouts from maps/summary.json (the thalweg runout no shorter than the cell's size and
+    no longer than the straight runout allows); the terrain's force is not a metric; eastings print in full."""
+    path, _ = _site_case(tmp_path)
+    out = tmp_path / "study"
+    assert main(["study", str(path), "--vary", "obstacles.0.friction=0.2,0.4,0.6", "--out", str(out), "--quiet",
+                 "--workers", "1"]) == 0
+    printed = capsys.readouterr().out
+    runs = sorted((out / "runs").iterdir())
+    depth = []
+    for d in runs:
+        with rasterio.open(d / "maps" / "depth_max.tif") as src:
+            depth.append(src.read(1))
+            transform = src.transform
+    depth = np.stack(depth)
+    with rasterio.open(out / "maps" / "probability_of_reach.tif") as src:
+        assert src.transform == transform and src.descriptions[0] == "probability_of_reach [-]"
+        prob = src.read(1)
+    with rasterio.open(out / "maps" / "depth_max_p50.tif") as src:
+        p50 = src.read(1)
+    reached = depth != -9999.0
+    count = reached.sum(axis=0)
+    assert (prob[count == 0] == -9999.0).all() and prob[count > 0] == pytest.approx(count[count > 0] / 3)
+    assert (count == 3).any() and (count < 3).any()  # friction changes where the block goes
+    median = np.median(np.where(reached, depth, 0.0), axis=0)
+    assert p50[count > 0] == pytest.approx(median[count > 0], abs=1e-12)
+    summary = json.loads((out / "study_summary.json").read_text())
+    assert summary["maps"]["runs"] == 3 and "maps/pressure_max_p90.tif" in summary["maps"]["files"]
+    header = (out / "study.csv").read_text().splitlines()[0].split(",")
+    assert "impact_area" in header and "runout_thalweg" in header and "runout_length" in header
+    assert not any(h.startswith("peak_force:") for h in header)  # the terrain is the ground, not a barrier
+    rows = [dict(zip(header, line.split(","))) for line in (out / "study.csv").read_text().splitlines()[1:]]
+    for r in rows:
+        assert 0.0 < float(r["runout_thalweg"]) and float(r["impact_area"]) > 0.0
+    assert "e+06" not in printed and "ensemble maps of 3 runs" in printed
