@@ -120,3 +120,19 @@ def test_obstacles_refuse_voellmy():
     with pytest.raises(CaseError) as err:
         parse_case(case, ".")
     assert any(path.startswith("obstacles.0") for path, _ in err.value.problems)
+
+
+@pytest.mark.slow
+def test_a_voellmy_dam_break_follows_the_depth_averaged_model():
+    """A 1 m x 0.4 m block of a near-plug viscous fluid released on a 30 deg Voellmy bed (mu 0.2, xi 100 m/s2)
+    against the depth-averaged model of the same flow (geompm/testing/verification/voellmy_dam_break.py, 9 600
+    cells): at 0.5, 1 and 1.5 s the centroid within 2 %, its speed within 5 % and the front (depth 0.02 m)
+    within 3 % plus a cell.  Three MPM sizes against the reference on four grids and its extrapolation in
+    benchmarks/results/2026-12-06-issue58/voellmy-dam-break.txt (within 1.6 / 3.6 / 3.3 %)."""
+    from geompm.testing.verification.voellmy_dam_break import mpm_dam_break, reference
+
+    times = (0.5, 1.0, 1.5)
+    for (t, xc, uc, front), (_, rx, ru, rf) in zip(mpm_dam_break(0.05, times), reference(times, 9600)):
+        assert xc == pytest.approx(rx, rel=0.02), t
+        assert uc == pytest.approx(ru, rel=0.05), t
+        assert abs(front - rf) <= 0.03 * rf + 0.05, t
