@@ -20,8 +20,8 @@ tangential speed implicitly over the step, |u'| + K |u'|^2 = |u|, K = rho g A dt
 (stable for any step, never reversing the sliding; a thin flow's basal node holds its whole column, so its
 deceleration is g |u|^2 / (xi H), the depth-averaged law's).  The nodes one cell beyond a flow's edges hold a
 little of its mass and take a whole cell's drag: a block six cells wide slides 6.6 % slow at t = 0.25 s, 3.2 %
-at half the cell size (docs/basal-friction.md).  Walls, planes (boundaries/halfspace.py) and the terrain
-(contact/force.contact_and_record) offer it.  A layer of depth H down a slope beta reaches
+at half the cell size (docs/basal-friction.md).  Walls, planes (boundaries/halfspace.py), the terrain and the
+obstacles (contact/force.contact_and_record) offer it.  A layer of depth H down a slope beta reaches
 u = sqrt(xi H (sin beta - mu cos beta)) (tests/verification/test_voellmy.py).
 """
 

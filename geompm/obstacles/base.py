@@ -23,6 +23,7 @@ from pydantic import Field
 
 from geompm.errors import CaseError
 from geompm.contact.impact_params import ImpactParams
+from geompm.contact.voellmy_params import VoellmyParams
 from geompm.contract.plugin import Params, vector_length_problems
 from geompm.mpm.memory import require_memory
 from geompm.contact.force import FACES_GRID, OBSTACLE, contact_and_record, record_on_face
@@ -33,9 +34,11 @@ from geompm.contact.sdf_field import face_lattice_ids, interp_field, lattice_byt
 O = OBSTACLE
 
 
-class ObstacleParams(ImpactParams):
-    condition: Literal["slip", "fixed", "friction"] = Field("friction", description="Contact condition")
-    friction: float = Field(0.0, ge=0.0, description="Coulomb coefficient mu [-] (condition 'friction')")
+class ObstacleParams(ImpactParams, VoellmyParams):
+    condition: Literal["slip", "fixed", "friction", "voellmy"] = Field(
+        "friction", description="Contact condition; 'voellmy': Coulomb 'friction' plus rho g u^2 / xi on the nodes "
+                                "within one cell behind the contact layer (contact/voellmy.py)")
+    friction: float = Field(0.0, ge=0.0, description="Coulomb coefficient mu [-] (conditions 'friction', 'voellmy')")
     velocity: list[float] | None = Field(None, description="Prescribed translational velocity [m/s]")
     contact_layer: float = Field(
         0.0, ge=0.0, description="Nodes with signed distance <= this [m] are in contact (0: on or inside)")

@@ -114,12 +114,26 @@ def test_the_terrain_offers_the_same_law(tmp_path):
     assert speeds[0] == pytest.approx(speed(0.25, depth=0.15) * (1 - 0.066), rel=0.02)
 
 
-def test_obstacles_refuse_voellmy():
+@pytest.mark.slow
+def test_an_obstacle_as_the_bed_gives_the_voellmy_speed():
+    """The sliding layer of test_a_layer_reaches_the_voellmy_speed on a box obstacle (its top face the bed,
+    lifted 0.1 m off the grid's edge) instead of the y- wall: the same u_T tanh(t / tau) within 0.5 % at 0.5 and
+    2.5 s (h = 0.05 m): the obstacles' contact takes the turbulent drag on the same first layer of nodes."""
+    from geompm.api import scene_from_dict
+
     case = layer_case(0.05)
-    case["obstacles"] = [{"type": "box", "min": [0.05, 0.3], "max": [0.1, 0.35], "condition": "voellmy", "xi": XI}]
-    with pytest.raises(CaseError) as err:
-        parse_case(case, ".")
-    assert any(path.startswith("obstacles.0") for path, _ in err.value.problems)
+    case["grid"]["extent"] = [0.2, 0.5]
+    case["bodies"][0]["geometry"] = {"type": "box", "min": [0.0, 0.1], "max": [0.2, 0.1 + DEPTH]}
+    case["boundaries"] = [case["boundaries"][0], {"type": "wall", "side": "y-"}]
+    case["obstacles"] = [{"type": "box", "name": "bed", "min": [-0.2, -0.1], "max": [0.4, 0.1],
+                          "condition": "voellmy", "friction": MU, "xi": XI}]
+    sim = Simulation(scene_from_dict(case))
+    st = sim.state
+    for t in (0.5, 2.5):
+        while sim.time < t - 1e-12:
+            sim.step(min(sim.stable_dt(), t - sim.time))
+        u = float((st.p_mass * st.p_v[:, 0]).sum() / st.p_mass.sum())
+        assert u == pytest.approx(speed(t), rel=0.005), t
 
 
 @pytest.mark.slow
