@@ -118,7 +118,8 @@ def test_the_terrain_offers_the_same_law(tmp_path):
 def test_an_obstacle_as_the_bed_gives_the_voellmy_speed():
     """The sliding layer of test_a_layer_reaches_the_voellmy_speed on a box obstacle (its top face the bed,
     lifted 0.1 m off the grid's edge) instead of the y- wall: the same u_T tanh(t / tau) within 0.5 % at 0.5 and
-    2.5 s (h = 0.05 m): the obstacles' contact takes the turbulent drag on the same first layer of nodes."""
+    1 s (h = 0.05 m; 94 % of u_T at 1 s): the obstacles' contact takes the turbulent drag on the same first layer of
+    nodes."""
     from geompm.api import scene_from_dict
 
     case = layer_case(0.05)
@@ -129,7 +130,7 @@ def test_an_obstacle_as_the_bed_gives_the_voellmy_speed():
                           "condition": "voellmy", "friction": MU, "xi": XI}]
     sim = Simulation(scene_from_dict(case))
     st = sim.state
-    for t in (0.5, 2.5):
+    for t in (0.5, 1.0):
         while sim.time < t - 1e-12:
             sim.step(min(sim.stable_dt(), t - sim.time))
         u = float((st.p_mass * st.p_v[:, 0]).sum() / st.p_mass.sum())
