@@ -102,6 +102,7 @@ class CudaBackend(Backend):
         self._dev: dict = {}
         self._dev_state: list = []
         self._tables: dict = {}  # (stage, pass) -> (its aux on the host, the device copy)
+        self._smalls: dict = {}  # key -> (a small array's values when uploaded, the device copy): _small
         self._on_host = True  # the host arrays are current; the next kernel uploads them
         #: the scheme's own passes on this backend (schemes/base.Scheme.backend_passes)
         self.scheme_passes = scene.scheme.backend_passes(self)
@@ -160,7 +161,7 @@ class CudaBackend(Backend):
             kern = K.p2g_tiled if self.scene.p2g == "tiled" else K.p2g
             kern[K.blocks(st.n), K.THREADS](
                 self.S, self.mode, dev["p_x"], dev["p_v"], dev["p_C"], dev["p_mass"], dev["p_vol"], dev["p_stress"],
-                self._origin, g.h, g.kind, cuda.to_device(view.lo), cuda.to_device(view.nloc), self.split_force,
+                self._origin, g.h, g.kind, self._small("lo", view.lo), self._small("nloc", view.nloc), self.split_force,
                 f_scale, self.scene.apic_dinv, view.g_mass, view.g_mom, force)
 
     def grid_update(self, view, dt: float) -> None:
@@ -182,8 +183,8 @@ class CudaBackend(Backend):
         ratio = sc.flip_ratio if sc.flip_tau is None else float(np.exp(-dt / sc.flip_tau))
         K.g2p[K.blocks(st.n), K.THREADS](
             self.S, self.mode, dev["p_x"], dev["p_v"], dev["p_C"], dev["p_L"], dev["p_vol"], dev["p_rho"],
-            dev["p_mass"], view.g_vel, g_vel_old, self._origin, g.h, g.kind, cuda.to_device(view.lo),
-            cuda.to_device(view.nloc), dt, ratio, sc.apic_dinv, set_velocity, move, gradient)
+            dev["p_mass"], view.g_vel, g_vel_old, self._origin, g.h, g.kind, self._small("lo", view.lo),
+            self._small("nloc", view.nloc), dt, ratio, sc.apic_dinv, set_velocity, move, gradient)
 
     def material_parameters_changed(self) -> None:
         self._prm = [cuda.to_device(m.prm) for m in self.scene.materials]
@@ -251,17 +252,28 @@ class CudaBackend(Backend):
             held = self._tables[key] = (aux, cuda.to_device(np.ascontiguousarray(aux)))
         return held[1]
 
+    def _small(self, key, host):
+        """A small host array (a stage's packed parameters, a window's corner, a node box) on the device, uploaded
+        again only when its values change: a wall's parameters are the same every step, a moving obstacle's
+        shift changes its copy (compared value by value, a few dozen numbers)."""
+        host = np.ascontiguousarray(host)
+        held = self._smalls.get(key)
+        if held is None or held[0].shape != host.shape or held[0].dtype != host.dtype or \
+                not np.array_equal(held[0], host):
+            held = self._smalls[key] = (host.copy(), cuda.to_device(host))
+        return held[1]
+
     def grid_stage(self, stage, view, dt: float, time: float, remap: bool) -> None:
         args = stage.grid_args(dt, time, remap)
         if args is None:
             return
         cls = type(stage)
         nn = view.g_mass.shape[0]
-        lo, nloc = cuda.to_device(view.lo), cuda.to_device(view.nloc)
+        lo, nloc = self._small("lo", view.lo), self._small("nloc", view.nloc)
         if cls.node_image is not None:
             kern = cuda_loops.merge_kernel(cls.node_image)
             fold = view.g_vel_old is not None
-            kern[K.blocks(nn), K.THREADS](cuda.to_device(args[0]), lo, nloc, view.g_mass, view.g_vel,
+            kern[K.blocks(nn), K.THREADS](self._small((id(stage), "merge"), args[0]), lo, nloc, view.g_mass, view.g_vel,
                                           view.g_vel_old if fold else view.g_vel, fold)
             return
         prm, aux = args
@@ -277,7 +289,7 @@ class CudaBackend(Backend):
         f = view.g_force if view.g_force is not None else view.g_vel
         wet = view.g_pore is not None
         pore = view.g_pore if wet else self._dry_node
-        for f_box, l_box, counted in self.domain.node_parts(np.asarray(first), np.asarray(last)):
+        for part, (f_box, l_box, counted) in enumerate(self.domain.node_parts(np.asarray(first), np.asarray(last))):
             b0 = np.minimum(np.maximum(f_box - view.lo, 0), view.nloc)
             bn = np.maximum(np.minimum(l_box - view.lo + 1, view.nloc) - b0, 0)
             total = int(np.prod(bn))
@@ -286,10 +298,10 @@ class CudaBackend(Backend):
             if not counted and spill is None:
                 spill = cuda.to_device(np.zeros(slots))
             kern[K.blocks(total), K.THREADS](
-                cuda.to_device(np.ascontiguousarray(prm)), self._table(stage, "grid", aux), dt,
-                self._origin, self.scene.grid.h, lo, nloc, cuda.to_device(b0.astype(np.int64)),
-                cuda.to_device(bn.astype(np.int64)), total, view.g_mass, view.g_vel, v_old, f, pore, wet,
-                out if counted else spill)
+                self._small((id(stage), "grid"), prm), self._table(stage, "grid", aux), dt,
+                self._origin, self.scene.grid.h, lo, nloc, self._small((id(stage), "b0", part), b0.astype(np.int64)),
+                self._small((id(stage), "bn", part), bn.astype(np.int64)), total, view.g_mass, view.g_vel, v_old,
+                f, pore, wet, out if counted else spill)
         stage.grid_reduced(self.joined(out.copy_to_host().reshape(1, slots), stage.node_reduction), dt, time, remap)
 
     def particle_stage(self, stage, dt: float, time: float) -> None:
@@ -297,7 +309,7 @@ class CudaBackend(Backend):
         if args is None:
             return
         dev, st, cls = self._device(), self.state, type(stage)
-        prm, aux = cuda.to_device(np.ascontiguousarray(args[0])), self._table(stage, "particle", args[1])
+        prm, aux = self._small((id(stage), "particle"), args[0]), self._table(stage, "particle", args[1])
         slots = max(stage.particle_reduction, 1)
         out = cuda.to_device(np.zeros(slots))
         kern = cuda_loops.particle_kernel(cls.particle_rule, max(cls.particle_scratch, 1), slots,

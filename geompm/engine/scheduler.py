@@ -74,7 +74,7 @@ class Simulation(StepContext):
         return int(round(float(self.domain.comm.sum([self.state.n])[0])))
 
     def load(self) -> None:
-        self.water.load(self.backend, self.state, self.time)
+        self.water.load(self.backend, self.time)
 
     def supply(self) -> None:
         """Each source's particles due by now, merged into the root rank's state (parallel/migrate.py; the
@@ -90,7 +90,7 @@ class Simulation(StepContext):
         return any(s.pending(self.time) for s in self.sources)
 
     def external_force(self, view, dt: float) -> None:
-        self.water.force(self.backend, self.state, view, dt)
+        self.water.force(self.backend, view, dt)
 
     def strength_changes(self) -> None:
         self.strength.apply(self.scene, self.backend, self.time)

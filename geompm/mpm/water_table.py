@@ -86,19 +86,21 @@ class WaterTable:
             pond[:] = 0.0
         return out
 
-    def load(self, backend, state, time: float) -> None:
+    def load(self, backend, time: float) -> None:
         """Hand the backend the pore pressure its next P2G takes out of the effective stress (the excess
         over the pond's)."""
+        state = backend.host_state()
         p = self.pressure(state.p_x, state.p_material, time)
         if self.pond is not None:
             p -= self._pond  # the excess, in place: the buffer is refilled by the next call
         backend.set_table_pressure(p)
 
-    def force(self, backend, state, view, dt: float) -> None:
+    def force(self, backend, view, dt: float) -> None:
         """After P2G: the pond's buoyancy on the submerged particles into the nodal force (kernels/phreatic.
         scatter_buoyancy; the pressure of the last ``load``)."""
         if self.pond is None:
             return
+        state = backend.host_state()
         g = backend.scene.grid
         split = view.g_force is not None and backend.split_force
         scatter_buoyancy(state.p_x, self._pond, state.p_vol0, self.weight, self.up, g.origin, 1.0 / g.h, g.kind,
@@ -157,12 +159,13 @@ class WaterTable:
 
 
 class NoWaterTable:
-    """A scene without a water table (module docstring)."""
+    """A scene without a water table (module docstring): it never asks for the particles (on a device backend
+    that would bring them to the host every step)."""
 
-    def load(self, backend, state, time: float) -> None:
+    def load(self, backend, time: float) -> None:
         pass
 
-    def force(self, backend, state, view, dt: float) -> None:
+    def force(self, backend, view, dt: float) -> None:
         pass
 
     def series(self, time: float) -> dict[str, float]:

@@ -1,0 +1,73 @@
+"""Count what each CUDA step asks of the host (geompm/bench/cuda_counts.py): kernel launches, numpy arrays
+handed to kernels (implicit round trips), copies each way, synchronisations, per step, for the bench scenes
+(coarsened for the simulator), the softening scenes and the saturated one.
+
+    NUMBA_ENABLE_CUDASIM=1 python benchmarks/device/count_launches.py [--steps 3] [--cells 8] [SCENE ...]
+    python benchmarks/device/count_launches.py ...      (on a GPU: the same counts, the real host time)
+
+Prints one table row and one JSON line per scene.  Under the simulator the host time includes the kernels
+(run in Python); on a device it is the step's wall time."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import tempfile
+from collections import Counter
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parents[1]
+sys.path.insert(0, str(ROOT / "tests" / "cuda"))
+
+
+def bench_scenes(cells: int) -> dict:
+    """name -> (case file, --set list) of the bench scenes at ``cells`` cells per side (along the short side
+    of dp2d)."""
+    sizes = {name: 1.0 / cells for name in ("fluid3d", "dp3d", "obstacle3d", "saturated3d")}
+    sizes["dp2d"] = 0.15 / cells  # 0.6 x 0.15 m
+    return {name: (ROOT / "benchmarks" / f"{name}.json", [f"grid.cell_size={h}"]) for name, h in sizes.items()}
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("scenes", nargs="*")
+    ap.add_argument("--steps", type=int, default=3)
+    ap.add_argument("--cells", type=int, default=8, help="cells per side of the bench scenes (default 8)")
+    ap.add_argument("--sites", action="store_true", help="also list each copy's and launch's calling line")
+    args = ap.parse_args(argv)
+    from cuda_parity import scenes as parity_scenes
+
+    from geompm.api import scene_from_dict, scene_from_file
+    from geompm.bench.cuda_counts import KINDS, step_counts
+    from geompm.engine.scheduler import Simulation
+
+    folder = Path(tempfile.mkdtemp())
+    tiny = parity_scenes(folder)
+    chosen = {**bench_scenes(args.cells),
+              **{k: tiny[k] for k in ("mohr_coulomb_softening_trigger", "drucker_prager_softening_2d")}}
+    names = args.scenes or list(chosen)
+    print(f"{'scene':<32}{'particles':>10}" + "".join(f"{k:>10}" for k in KINDS) + f"{'host ms':>10}")
+    for name in names:
+        spec = chosen[name]
+        if isinstance(spec, tuple):
+            scene = scene_from_file(spec[0], spec[1] + ["solver.backend=cuda"])
+        else:
+            raw = json.loads(json.dumps(spec))
+            raw.setdefault("solver", {})["backend"] = "cuda"
+            scene = scene_from_dict(raw, folder)
+        sim = Simulation(scene)
+        sim.distribute()
+        sites = Counter() if args.sites else None
+        r = step_counts(sim, args.steps, sites)
+        print(f"{name:<32}{scene.state.n:>10}" + "".join(f"{r[k]:>10.1f}" for k in KINDS)
+              + f"{1e3 * r['wall_per_step']:>10.1f}")
+        print(json.dumps({"scene": name, "particles": scene.state.n, **r}), flush=True)
+        for (what, where), k in sorted((sites or {}).items(), key=lambda kv: -kv[1]):
+            print(f"    {k / args.steps:6.1f} per step  {what:<14} {where}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,110 @@
+"""What one CUDA step asks of the host: kernel launches, copies each way and blocking synchronisations.
+
+``counting()`` wraps, for the duration of a ``with`` block, numba-cuda's kernel launch, its explicit copies
+(``cuda.to_device``, a device array's ``copy_to_device`` and ``copy_to_host``) and ``cuda.synchronize``, on a
+device or under the simulator (NUMBA_ENABLE_CUDASIM=1), and counts them; a numpy array handed to a kernel is
+counted apart (``implicit``: numba copies it to the device and back around the launch, a blocking round
+trip; the copy back goes through ``copy_to_host`` and is counted there too).  A ``copy_to_host`` blocks the host until the device has finished: ``blocking`` counts those and the
+synchronisations.  Device functions called inside a kernel are not launches (the simulator runs them
+through the same class; they are told apart by its kernel context).  ``step_counts`` runs a scene's steps
+under it: the table of docs/performance.md (benchmarks/device/count_launches.py).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import time
+from collections import Counter
+
+import numpy as np
+
+KINDS = ("launches", "implicit", "h2d", "d2h", "syncs", "blocking")
+
+
+def _targets():
+    """(launch class and method, device-array class) of the running numba-cuda: its simulator's or the
+    driver's."""
+    from numba import config
+
+    if config.ENABLE_CUDASIM:
+        from numba.cuda.simulator import kernel
+        from numba.cuda.simulator.cudadrv.devicearray import FakeCUDAArray
+
+        return kernel.FakeCUDAKernel, FakeCUDAArray, kernel
+    from numba.cuda.cudadrv.devicearray import DeviceNDArray
+    from numba.cuda.dispatcher import _LaunchConfiguration
+
+    return _LaunchConfiguration, DeviceNDArray, None
+
+
+def _caller() -> str:
+    """'module.py:line' of geompm's frame nearest the wrapped call."""
+    import sys
+
+    frame = sys._getframe(2)
+    while frame is not None and "/geompm/" not in frame.f_code.co_filename.replace("\\", "/"):
+        frame = frame.f_back
+    if frame is None:
+        return "?"
+    return f"{frame.f_code.co_filename.replace(chr(92), '/').split('/geompm/')[-1]}:{frame.f_lineno}"
+
+
+@contextlib.contextmanager
+def counting(sites: Counter | None = None):
+    """A Counter of KINDS, filled while the block runs; every wrapped function is restored after it.  With
+    ``sites`` each event is also counted there by (kind, geompm's calling line)."""
+    from numba import cuda
+
+    counts = Counter({k: 0 for k in KINDS})
+    launcher, array, sim = _targets()
+    saved = []
+
+    def wrap(owner, name, count):
+        original = getattr(owner, name)
+
+        def wrapper(*args, **kwargs):
+            if count(args) and sites is not None:
+                sites[(name, _caller())] += 1
+            return original(*args, **kwargs)
+
+        saved.append((owner, name, original))
+        setattr(owner, name, wrapper)
+
+    def launch(args):
+        this = args[0]
+        if sim is not None and (this._device or sim._kernel_context):
+            return False  # a device function inside a kernel
+        counts["launches"] += 1
+        counts["implicit"] += sum(isinstance(a, np.ndarray) for a in args[1:])
+        return True
+
+    def add(*kinds):
+        def count(args):
+            for k in kinds:
+                counts[k] += 1
+            return True
+        return count
+
+    wrap(launcher, "__call__", launch)
+    wrap(array, "copy_to_host", add("d2h", "blocking"))
+    wrap(array, "copy_to_device", add("h2d"))
+    wrap(cuda, "to_device", add("h2d"))
+    wrap(cuda, "synchronize", add("syncs", "blocking"))
+    try:
+        yield counts
+    finally:
+        for owner, name, original in reversed(saved):
+            setattr(owner, name, original)
+
+
+def step_counts(sim, steps: int, sites: Counter | None = None) -> dict:
+    """Per step, over ``steps`` steps of ``sim`` (a Simulation on the cuda backend) after one untimed step:
+    each count of KINDS and the host's wall time [s] (under the simulator that includes the kernels); ``sites``
+    as in ``counting``."""
+    sim.step(sim.stable_dt())  # the first step allocates and uploads
+    with counting(sites) as counts:
+        t0 = time.perf_counter()
+        for _ in range(steps):
+            sim.step(sim.stable_dt())
+        wall = time.perf_counter() - t0
+    return {**{k: counts[k] / steps for k in KINDS}, "wall_per_step": wall / steps, "steps": steps}

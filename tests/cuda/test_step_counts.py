@@ -1,0 +1,66 @@
+"""What an ordinary CUDA step asks of the host (geompm/bench/cuda_counts.py, benchmarks/device/count_launches.py),
+counted under numba-cuda's simulator in a subprocess: the count itself (a known kernel launch, copies each way)
+and, on the 2D bench scene and a softening scene, that a step no longer brings the particle state to the host
+and back (before: 29 and 27 copies to the host and 48 and 40 to the device per step, the whole state each
+way, because a scene without a water table asked for the host's particles twice a step; now 9 and 7 copies
+to the host, each a reduction the host reads, and 9 and 7 to the device).  Counts before and after for every
+bench scene: benchmarks/results/2026-12-06-issue59/."""
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+pytest.importorskip("numba_cuda")
+SIM = dict(os.environ, NUMBA_ENABLE_CUDASIM="1")
+
+PROBE = """
+import numpy as np
+from numba import cuda
+from geompm.bench.cuda_counts import counting
+
+@cuda.jit(device=True)
+def twice(x):
+    return 2.0 * x
+
+@cuda.jit
+def double(a):
+    i = cuda.grid(1)
+    if i < a.shape[0]:
+        a[i] = twice(a[i])
+
+with counting() as c:
+    d = cuda.to_device(np.arange(4.0))
+    double[1, 4](d)
+    double[1, 4](np.arange(4.0))
+    out = d.copy_to_host()
+    cuda.synchronize()
+print(dict(c), out.tolist())
+"""
+
+
+def test_the_counter_sees_launches_copies_and_synchronisations():
+    """Two launches (the device function inside is none), one numpy argument (an implicit round trip, whose copy
+    back numba makes through the same call: two copies to the host), one explicit copy each way, one
+    synchronisation."""
+    r = subprocess.run([sys.executable, "-c", PROBE], env=SIM, capture_output=True, text=True, cwd=ROOT, timeout=300)
+    assert r.returncode == 0, r.stderr[-2000:]
+    counts, out = r.stdout.strip().rsplit(" [", 1)
+    assert eval(counts) == {"launches": 2, "implicit": 1, "h2d": 1, "d2h": 2, "syncs": 1, "blocking": 3}
+    assert out == "0.0, 2.0, 4.0, 6.0]"
+
+
+def test_an_ordinary_step_keeps_the_particles_on_the_device():
+    r = subprocess.run([sys.executable, "benchmarks/device/count_launches.py", "--steps", "2", "dp2d",
+                        "drucker_prager_softening_2d"], env=SIM, capture_output=True, text=True, cwd=ROOT,
+                       timeout=600)
+    assert r.returncode == 0, r.stderr[-2000:]
+    rows = {j["scene"]: j for j in (json.loads(line) for line in r.stdout.splitlines() if line.startswith("{"))}
+    assert set(rows) == {"dp2d", "drucker_prager_softening_2d"}
+    for name, row in rows.items():
+        assert row["d2h"] <= 9 and row["h2d"] <= 9, (name, row)  # no whole-state copy (18 arrays each way)
+        assert row["launches"] >= 10 and row["implicit"] == 0, (name, row)
