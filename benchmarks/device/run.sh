@@ -22,8 +22,14 @@ here=$(cd "$(dirname "$0")" && pwd)
   # step), then 1.6M, the dam-break equality check, 204k, the tiled P2G; every command gets its own
   # timeout or what is left, whichever is less, and is named if it is cut or skipped.
   gpu_start 430 || exit 2
+  # DRY=1 (the dry run under the simulator; about 8 minutes on 2 cores, so not in CI: benchmarks/results/
+  # 2026-12-06-issue59/device-dry-run.log): every command as below at 8 cells per side, one timed step, one
+  # parity step on a coarse dam break, one tiny parity scene, each limit and the deadline four times longer
+  steps200=200; dam=""; tiny=""
+  [ -n "${DRY:-}" ] && { steps200=1; dam="--set grid.cell_size=0.05"; tiny="elastic_apic_quadratic_usl"; }
   bench() {  # timeout, cells per side, precision, timed steps, then scenes and extra options
     limit=$1; n=$2; p=$3; steps=$4; shift 4
+    [ -n "${DRY:-}" ] && { n=8; steps=1; }
     step "$limit" geompm bench --backend cuda --no-cold --no-bandwidth --json --steps "$steps" \
       --set grid.cell_size="$(python3 -c "print(1/$n)")" --set solver.precision="$p" "$@"
   }
@@ -32,14 +38,17 @@ here=$(cd "$(dirname "$0")" && pwd)
     bench 80 256 $p 10 --scene dp3d
   done
   for p in float32 float64; do bench 50 128 $p 30 --scene fluid3d --scene dp3d; done
-  step 70 python3 tests/cuda/cuda_parity.py --steps 200 --case cases/dam_break.json
+  step 70 python3 tests/cuda/cuda_parity.py --steps "$steps200" --case cases/dam_break.json $dam
   for p in float32 float64; do bench 35 64 $p 50 --scene fluid3d --scene dp3d; done
   bench 60 256 float32 10 --scene fluid3d --set solver.p2g=tiled
   bench 60 128 float32 30 --scene dp3d --set solver.p2g=tiled
   # saturated soil (schemes/saturated/cuda.py): the bench scene and its CPU parity after 200 steps
   bench 60 64 float64 30 --scene saturated3d --scene dp3d
-  step 60 python3 tests/cuda/cuda_parity.py --steps 200 saturated_drucker_prager
+  step 60 python3 tests/cuda/cuda_parity.py --steps "$steps200" saturated_drucker_prager
+  # what each step asks of the host (launches, copies, synchronisations) and its wall time on the device
+  if [ -n "${DRY:-}" ]; then step 60 python3 benchmarks/device/count_launches.py --steps 1 dp2d
+  else step 60 python3 benchmarks/device/count_launches.py --steps 20 --cells 16; fi
   # every law and stage on the GPU against the CPU, with what is left (both sides compile cold here)
-  step 120 python3 tests/cuda/cuda_parity.py --steps 3
+  step 120 python3 tests/cuda/cuda_parity.py --steps 3 $tiny
   date -u
 } 2>&1 | tee "$log"
