@@ -22,7 +22,7 @@ here=$(cd "$(dirname "$0")" && pwd)
   # step), then 1.6M, the dam-break equality check, 204k, the tiled P2G; every command gets its own
   # timeout or what is left, whichever is less, and is named if it is cut or skipped.
   gpu_start 430 || exit 2
-  # DRY=1 (the dry run under the simulator; about 8 minutes on 2 cores, so not in CI: benchmarks/results/
+  # DRY=1 (the dry run under the simulator; 4-6 minutes on 2 cores, so not in CI: benchmarks/results/
   # 2026-12-06-issue59/device-dry-run.log): every command as below at 8 cells per side, one timed step, one
   # parity step on a coarse dam break, one tiny parity scene, each limit and the deadline four times longer
   steps200=200; dam=""; tiny=""
