@@ -17,16 +17,21 @@ from geompm.testing.verification.loose_dense import run_slope
 
 
 @pytest.mark.slow
-def test_loose_slope_liquefies_and_dense_slope_creeps():
+def test_loose_slope_liquefies():
     loose = run_slope(0.5, 0.1, end=13.5, every=0.5)
     assert loose["failed"] and 8.0 < loose["t_fail"] < 13.5, loose
     assert loose["peak_1s"] > 1.0  # over 1 m/s within 1 s of failure
     assert loose["excess_at_fail"] > 1000.0  # contraction: positive excess pore pressure
 
+
+@pytest.mark.slow
+def test_dense_slope_creeps():
+    """Run apart from the loose slope (the two take 2.5 minutes each and run on CI's two workers side by side):
+    the dense slope's late speed is checked against the paper's loose one (over 1 m/s) rather than this case's."""
     dense = run_slope(0.4, 0.1, end=18.0, every=0.5)
     rows = dense["rows"]
     assert not dense["failed"]  # never above 1 cm/s
     late = rows[rows[:, 0] > 15.0]
-    assert late[:, 1].mean() < loose["mean_after"] / 100.0  # at least 100 times slower
+    assert late[:, 1].mean() < 1.0 / 100.0  # at least 100 times slower than the loose soil's "over 1 m/s"
     assert rows[-1, 4] < 0.598  # the base dilated from 0.600
     assert rows[-1, 6] < -2000.0  # and its water went into suction against the head's hydrostatic
