@@ -36,9 +36,9 @@ from geompm.sources.hydrograph import Hydrograph
 BED_STEPS = 60
 
 
-def bed_height(stages, xy, lo: float, hi: float, spacing: float) -> float | None:
-    """The height z in [lo, hi] of the ground below the plan point ``xy`` (2,): the highest z at which a stage's
-    rigid solid (``solid_depth``) lies less than a quarter spacing deep; None where no stage has a solid there."""
+def bed_height(stages, xy, lo: float, hi: float) -> float | None:
+    """The height z in [lo, hi] of the ground below the plan point ``xy`` (2,): where the deepest of the stages'
+    rigid solids (``solid_depth``) changes sign, by bisection; None where no stage has a solid at ``lo``."""
     def depth(z):
         pt = np.array([[xy[0], xy[1], z]])
         ds = [d[0] for d in (s.solid_depth(pt) for s in stages) if d is not None]
@@ -100,7 +100,7 @@ class Inflow(ParticleSource):
             if len(q) == 3:
                 full.append(q)
                 continue
-            z = bed_height(scene.stages, q, float(grid.origin[2]), float(grid.upper[2]), self.s)
+            z = bed_height(scene.stages, q, float(grid.origin[2]), float(grid.upper[2]))
             if z is None:
                 raise CaseError([(f"{self.json_path}.section.{i}", f"no ground (terrain, plane or obstacle) below "
                                   f"({q[0]:g}, {q[1]:g}) inside the grid: give the point's height as a third "
