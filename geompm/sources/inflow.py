@@ -10,7 +10,7 @@ descent is d). With the hydrograph's Q(t) and speed v(t) (or depth h(t)), source
 
 Particles of spacing s = cell / particles_per_cell and volume V_p = s^dim come in slices: a slice is n_w
 particles across (the polyline resampled at s; one in 2D) times n_d = max(1, round(h / s)) along u, bottom
-layer first, with n_d fixed when the slice starts. Before each step the particles due are added,
+layer first, with n_d fixed when the slice starts. Before and after each step the particles due are added,
 
     N(t) = floor(V(t) / V_p),   V(t) = int_0^t Q dt   (exact for the piecewise-linear Q),
 
@@ -70,7 +70,7 @@ class Inflow(ParticleSource):
         self.dim = d
         self.mid = scene.material_names.index(p.material)
         mat = scene.materials[self.mid]
-        self.density, self.k0, self.nvars = mat.density, mat.k0(), len(mat.state_vars)
+        self.density, self.k0 = mat.density, mat.k0()
         self.material = mat
         self.s = scene.grid.h / p.particles_per_cell
         self.vp = self.s ** d
