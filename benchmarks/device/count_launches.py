@@ -5,8 +5,10 @@ handed to kernels (implicit round trips), copies each way, synchronisations, per
     NUMBA_ENABLE_CUDASIM=1 python benchmarks/device/count_launches.py [--steps 3] [--cells 8] [SCENE ...]
     python benchmarks/device/count_launches.py ...      (on a GPU: the same counts, the real host time)
 
-Prints one table row and one JSON line per scene.  Under the simulator the host time includes the kernels
-(run in Python); on a device it is the step's wall time."""
+Each step is taken as `geompm run` takes it: the time step, the step, the health and domain checks.  Prints one
+table row and one JSON line per scene: the counts per step, the wall time per step, and the host's own time per
+step (the wall time less the time inside kernel launches: under the simulator the kernels run as Python inside
+them; on a device launches return at once and the host's time includes its waits at blocking copies)."""
 
 from __future__ import annotations
 
@@ -48,7 +50,7 @@ def main(argv=None) -> int:
     chosen = {**bench_scenes(args.cells),
               **{k: tiny[k] for k in ("mohr_coulomb_softening_trigger", "drucker_prager_softening_2d")}}
     names = args.scenes or list(chosen)
-    print(f"{'scene':<32}{'particles':>10}" + "".join(f"{k:>10}" for k in KINDS) + f"{'host ms':>10}")
+    print(f"{'scene':<32}{'particles':>10}" + "".join(f"{k:>10}" for k in KINDS) + f"{'wall ms':>10}{'host ms':>10}")
     for name in names:
         spec = chosen[name]
         if isinstance(spec, tuple):
@@ -62,7 +64,7 @@ def main(argv=None) -> int:
         sites = Counter() if args.sites else None
         r = step_counts(sim, args.steps, sites)
         print(f"{name:<32}{scene.state.n:>10}" + "".join(f"{r[k]:>10.1f}" for k in KINDS)
-              + f"{1e3 * r['wall_per_step']:>10.1f}")
+              + f"{1e3 * r['wall_per_step']:>10.1f}{1e3 * r['host_per_step']:>10.2f}")
         print(json.dumps({"scene": name, "particles": scene.state.n, **r}), flush=True)
         for (what, where), k in sorted((sites or {}).items(), key=lambda kv: -kv[1]):
             print(f"    {k / args.steps:6.1f} per step  {what:<14} {where}")

@@ -78,8 +78,28 @@ class Backend:
         return wave_speed(self.scene, st, comm=self.domain.comm), (max_speed(st.p_v) if st.n else 0.0), rate
 
     def host_state(self):
-        """The particle arrays as host (numpy) arrays: read by health checks, writers and checkpoints."""
+        """The particle arrays as host (numpy) arrays: read by writers, checkpoints and a failed check's message."""
         raise NotImplementedError
+
+    def settle(self) -> None:
+        """The end of a step (engine/scheduler.Simulation.step): a backend that defers its reductions hands them
+        to the host here (every stage's ``*_reduced``, the last stress update's largest |L_ii|), so that what
+        reads the stages and the time step's inputs after the step sees this step's; nothing on the CPU."""
+
+    def health_sums(self, gravity) -> tuple[float, float, float]:
+        """(particles with a non-finite position, velocity or stress, kinetic energy [J], energy gravity
+        released [J]) over this process's particles (kernels/health.health_sums; a device backend reduces them
+        on its device)."""
+        from geompm.kernels.health import health_sums
+
+        st = self.host_state()
+        return health_sums(st.p_x, st.p_x0, st.p_v, st.p_stress, st.p_mass, gravity)
+
+    def particles_outside(self, lo, hi) -> int:
+        """How many of this process's particles lie outside the box [lo, hi] [m] ((d,) arrays)."""
+        from geompm.kernels.health import outside_grid
+
+        return int(outside_grid(self.host_state().p_x, lo, hi).sum())
 
     def window(self):
         """The grid window over every particle's stencil (mpm/grid.py); SimulationError naming a particle

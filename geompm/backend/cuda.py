@@ -40,6 +40,7 @@ from geompm.kernels.stencil import SCHEMES
 from geompm.contract.stages import DRY_NODE, FAR_NODE
 from geompm.backend import cuda_kernels as K
 from geompm.backend import cuda_loops, cuda_sort
+from geompm.backend.cuda_tally import DeviceTally
 from geompm.backend.base import Backend, mass_floor, relaxed_materials
 
 #: the particle arrays that live on the device (and the scheme's own: its passes' ``device_arrays``)
@@ -104,6 +105,14 @@ class CudaBackend(Backend):
         self._tables: dict = {}  # (stage, pass) -> (its aux on the host, the device copy)
         self._smalls: dict = {}  # key -> (a small array's values when uploaded, the device copy): _small
         self._on_host = True  # the host arrays are current; the next kernel uploads them
+        #: every reduction of a step, read by the host once at its end (settle; backend/cuda_tally.py)
+        self.tally = DeviceTally()
+        self._handed: list = []  # (callback, tally slice, slots) of this step's stage passes, in pass order
+        self._passes: dict = {}  # (stage, pass kind) -> passes so far this step: each pass its own slots
+        self._rate_due = False  # a stress update wrote its largest |L_ii| into the tally
+        self._moved = 0  # bumped by whatever changes the device particles (their step-end reductions lapse)
+        self._end = None  # (the _moved it was taken at, its values by name): settle's step-end reductions
+        self._spill = {}  # slots -> a device sink for the rows of nodes another rank counts
         #: the scheme's own passes on this backend (schemes/base.Scheme.backend_passes)
         self.scheme_passes = scene.scheme.backend_passes(self)
         self.device_arrays = DEVICE_ARRAYS + self.scheme_passes.device_arrays
@@ -115,6 +124,7 @@ class CudaBackend(Backend):
             self._dev = {k: cuda.to_device(np.ascontiguousarray(getattr(st, k))) for k in self.device_arrays}
             self._dev_state = [cuda.to_device(np.ascontiguousarray(sv)) for sv in st.p_state]
             self._on_host = False
+            self._moved += 1
         return self._dev
 
     def host_state(self):
@@ -124,6 +134,7 @@ class CudaBackend(Backend):
                 setattr(st, k, d.copy_to_host())
             st.p_state = [d.copy_to_host() for d in self._dev_state]
             self._on_host = True
+        self._end = None  # the caller may change the host arrays
         return self.state
 
     def nbytes(self) -> int:
@@ -136,7 +147,11 @@ class CudaBackend(Backend):
         return self.buffers.view(lo, nloc)
 
     def _cells(self):
-        dev, st, spec = self._device(), self.state, self.scene.grid
+        spec = self.scene.grid
+        end = self._ended()
+        if end is not None:
+            return cells_of_bounds(end["lo"], end["hi"], end["sum"], spec.origin, 1.0 / spec.h)
+        dev, st = self._device(), self.state
         d = spec.dim
         out = np.empty((3, d))
         out[0], out[1], out[2] = np.inf, -np.inf, 0.0
@@ -185,13 +200,15 @@ class CudaBackend(Backend):
             self.S, self.mode, dev["p_x"], dev["p_v"], dev["p_C"], dev["p_L"], dev["p_vol"], dev["p_rho"],
             dev["p_mass"], view.g_vel, g_vel_old, self._origin, g.h, g.kind, self._small("lo", view.lo),
             self._small("nloc", view.nloc), dt, ratio, sc.apic_dinv, set_velocity, move, gradient)
+        self._moved += 1
 
     def material_parameters_changed(self) -> None:
         self._prm = [cuda.to_device(m.prm) for m in self.scene.materials]
 
     def update_stress(self, dt: float) -> None:
         dev = self._device()
-        rate = cuda.to_device(np.zeros(1))
+        rate = self.tally.slots("rate", [0.0])
+        self._moved += 1
         for k, (law, prm, (s, e), sv) in enumerate(zip(self._laws, self._prm, self.state.blocks, self._dev_state)):
             if e <= s:
                 continue
@@ -204,17 +221,22 @@ class CudaBackend(Backend):
             if old is None or old.shape != (e - s, 6 + sv.shape[1]):
                 old = self._old[k] = cuda.device_array((e - s, 6 + sv.shape[1]), np.float64)
             relaxed[K.blocks(e - s), K.THREADS](*args, old, dt / self.scene.viscoplastic_time, rate)
-        self.max_rate = float(rate.copy_to_host()[0])
+        self.max_rate, self._rate_due = None, True  # read at the step's end (settle)
 
     def dt_parts(self):
+        self._settle_if_due()
         sc, st = self.scene, self.state
-        dev = self._device()
         nb = len(st.blocks)
-        red = cuda.to_device(np.full(1 + 2 * nb, -np.inf))
-        for k, (s, e) in enumerate(st.blocks):
-            if e > s:
-                K.speed_and_density[K.blocks(e - s), K.THREADS](dev["p_v"], dev["p_rho"], s, e, k, red)
-        r = red.copy_to_host()
+        end = self._ended()
+        if end is not None:
+            r = end["speed_density"]
+        else:
+            dev = self._device()
+            red = cuda.to_device(np.full(1 + 2 * nb, -np.inf))
+            for k, (s, e) in enumerate(st.blocks):
+                if e > s:
+                    K.speed_and_density[K.blocks(e - s), K.THREADS](dev["p_v"], dev["p_rho"], s, e, k, red)
+            r = red.copy_to_host()
         laws = [0.0] * nb
         for k, (mat, (s, e)) in enumerate(zip(sc.materials, st.blocks)):
             if e > s:
@@ -226,6 +248,7 @@ class CudaBackend(Backend):
         return c, (float(r[0]) if st.n else 0.0), self.max_rate
 
     def each(self, fn, n: int, *args) -> None:
+        self._moved += 1
         if n > 0:
             cuda_loops.each_kernel(fn)[K.blocks(n), K.THREADS](n, *args)
 
@@ -283,7 +306,7 @@ class CudaBackend(Backend):
         b0 = np.minimum(np.maximum(np.asarray(first) - view.lo, 0), view.nloc)
         bn = np.maximum(np.minimum(np.asarray(last) - view.lo + 1, view.nloc) - b0, 0)
         slots = max(stage.node_reduction, 1)
-        out, spill = cuda.to_device(np.zeros(slots)), None
+        (out, where), spill = self._pass_slots((id(stage), "grid"), slots), None
         kern = cuda_loops.node_kernel(cls.node_rule, cls.node_scratch, slots, cls.node_maxima)
         v_old = view.g_vel_old if view.g_vel_old is not None else view.g_vel
         f = view.g_force if view.g_force is not None else view.g_vel
@@ -296,22 +319,72 @@ class CudaBackend(Backend):
             if not total:
                 continue
             if not counted and spill is None:
-                spill = cuda.to_device(np.zeros(slots))
+                spill = self._spill.get(slots)
+                if spill is None:
+                    spill = self._spill[slots] = cuda.to_device(np.zeros(slots))
             kern[K.blocks(total), K.THREADS](
                 self._small((id(stage), "grid"), prm), self._table(stage, "grid", aux), dt,
                 self._origin, self.scene.grid.h, lo, nloc, self._small((id(stage), "b0", part), b0.astype(np.int64)),
                 self._small((id(stage), "bn", part), bn.astype(np.int64)), total, view.g_mass, view.g_vel, v_old,
                 f, pore, wet, out if counted else spill)
-        stage.grid_reduced(self.joined(out.copy_to_host().reshape(1, slots), stage.node_reduction), dt, time, remap)
+        self._hand(lambda rows: stage.grid_reduced(rows, dt, time, remap), where, stage.node_reduction)
+
+    def particle_stages(self, stages, dt: float, time: float) -> None:
+        """Every particle stage in order, the consecutive stages of one class that share their ``aux`` and act on
+        the same blocks (the walls of a box) in one launch per block (cuda_loops.GROUP)."""
+        runs: list = []
+        for stage in stages:
+            args = stage.particle_args(dt, time)
+            if args is None:
+                continue
+            if runs and self._joins(runs[-1][-1], (stage, args)):
+                runs[-1].append((stage, args))
+            else:
+                runs.append([(stage, args)])
+        for run in runs:
+            if len(run) == 1:
+                self._particle_pass(*run[0], dt, time)
+            else:
+                self._particle_group(run, dt, time)
+
+    def _joins(self, a, b) -> bool:
+        (sa, (pa, xa)), (sb, (pb, xb)) = a, b
+        n = len(self.state.blocks)
+        return type(sa) is type(sb) and xa is xb and np.shape(pa) == np.shape(pb) and \
+            sa.particle_reduction == sb.particle_reduction and \
+            list(sa.particle_blocks(n)) == list(sb.particle_blocks(n))
+
+    def _particle_group(self, run, dt: float, time: float) -> None:
+        dev, st = self._device(), self.state
+        first = run[0][0]
+        cls, ids = type(first), tuple(id(s) for s, _ in run)
+        prms = self._small(("group", ids), np.stack([np.asarray(a[0], np.float64) for _, a in run]))
+        aux = self._table(first, "particle", run[0][1][1])
+        slots = max(first.particle_reduction, 1)
+        outs, where = self._pass_slots((ids, "group"), slots * len(run))
+        kern = cuda_loops.group_kernel(cls.particle_rule, max(cls.particle_scratch, 1), slots, cls.particle_maxima)
+        outs = outs.reshape(len(run), slots)
+        self._moved += 1
+        for k in first.particle_blocks(len(st.blocks)):
+            s, e = st.blocks[k]
+            if e > s:
+                kern[K.blocks(e - s), K.THREADS](prms, aux, dt, k, s, e, dev["p_x"], dev["p_x0"], dev["p_v"],
+                                                 dev["p_C"], dev["p_mass"], dev["p_stress"], outs)
+        for g, (stage, _) in enumerate(run):
+            at = slice(where.start + g * slots, where.start + (g + 1) * slots)
+            self._hand(lambda rows, stage=stage: stage.particle_reduced(rows, dt, time), at, stage.particle_reduction)
 
     def particle_stage(self, stage, dt: float, time: float) -> None:
         args = stage.particle_args(dt, time)
-        if args is None:
-            return
+        if args is not None:
+            self._particle_pass(stage, args, dt, time)
+
+    def _particle_pass(self, stage, args, dt: float, time: float) -> None:
         dev, st, cls = self._device(), self.state, type(stage)
         prm, aux = self._small((id(stage), "particle"), args[0]), self._table(stage, "particle", args[1])
         slots = max(stage.particle_reduction, 1)
-        out = cuda.to_device(np.zeros(slots))
+        out, where = self._pass_slots((id(stage), "particle"), slots)
+        self._moved += 1
         kern = cuda_loops.particle_kernel(cls.particle_rule, max(cls.particle_scratch, 1), slots,
                                           cls.particle_maxima)
         for k in stage.particle_blocks(len(st.blocks)):
@@ -319,6 +392,83 @@ class CudaBackend(Backend):
             if e > s:
                 kern[K.blocks(e - s), K.THREADS](prm, aux, dt, k, s, e, dev["p_x"], dev["p_x0"], dev["p_v"],
                                                  dev["p_C"], dev["p_mass"], dev["p_stress"], out)
-        stage.particle_reduced(self.joined(out.copy_to_host().reshape(1, slots), stage.particle_reduction), dt,
-                               time)
+        self._hand(lambda rows: stage.particle_reduced(rows, dt, time), where, stage.particle_reduction)
+
+    # -- the step's reductions, read once at its end -----------------------------------------------------
+    def _pass_slots(self, key, slots: int):
+        """(device view, slice) of the tally slots of this step's next pass of ``key`` (a stage's id and pass kind;
+        a group's stage ids), zero at the step's start."""
+        nth = self._passes.get(key, 0)
+        self._passes[key] = nth + 1
+        return self.tally.slots((key, nth), np.zeros(slots)), self.tally.reserve((key, nth), ())
+
+    def _hand(self, reduced, where: slice, declared: int) -> None:
+        """Hand the tally's ``where`` slots to ``reduced`` (a stage's ``*_reduced``) when the step settles."""
+        self._handed.append((reduced, where, declared))
+
+    def _ended(self):
+        """settle's step-end reductions if nothing has changed the particles since, else None."""
+        end = self._end
+        return end[1] if end is not None and end[0] == self._moved and not self._on_host else None
+
+    def _settle_if_due(self) -> None:
+        if self._handed or self._rate_due:
+            self.settle()
+
+    def settle(self) -> None:
+        """One blocking copy: this step's stage accumulators and largest |L_ii|, and the step-end reductions the
+        next step's time step, grid window, health and domain checks read (cuda_kernels.step_end, one launch
+        per material block), all in the tally; then the stages' ``*_reduced`` in pass order, and the tally
+        reset for the next step."""
+        st = self.state
+        nb = len(st.blocks)
+        ended = not self._on_host and st.n > 0
+        if ended:
+            dev = self._dev
+            for k, (s, e) in enumerate(st.blocks):
+                row = self.tally.slots(("end", k), K.END_START)
+                if e > s:
+                    K.step_end[K.blocks(e - s), K.THREADS](dev["p_x"], dev["p_x0"], dev["p_v"], dev["p_rho"],
+                                                           dev["p_stress"], dev["p_mass"], self._gravity, s, e, row)
+            self.scheme_passes.end_reductions(self)
+        if not (ended or self._handed or self._rate_due):
+            return
+        values = self.tally.read()
+        self.tally.reset()
+        handed, self._handed, self._passes = self._handed, [], {}
+        if self._rate_due:
+            self.max_rate, self._rate_due = float(values[self.tally.reserve("rate", ())][0]), False
+        if ended:
+            self._end = (self._moved, self._end_values(values, nb))
+        for reduced, where, declared in handed:
+            reduced(self.joined(values[where].reshape(1, -1), declared))
+
+    def _end_values(self, values, nb: int) -> dict:
+        """The step-end rows (cuda_kernels.END_ROW per material block) combined over the blocks."""
+        d = self.scene.dim
+        rows = np.array([values[self.tally.reserve(("end", k), ())] for k in range(nb)])
+        speed_density = np.empty(1 + 2 * nb)
+        speed_density[0] = rows[:, 9].max()
+        speed_density[1::2], speed_density[2::2] = rows[:, 10], rows[:, 11]
+        return {"values": values, "lo": -rows[:, 0:d].max(axis=0), "hi": rows[:, 3:3 + d].max(axis=0),
+                "sum": rows[:, 6:6 + d].sum(axis=0), "speed_density": speed_density,
+                "health": (float(rows[:, 12].sum()), float(rows[:, 13].sum()), float(rows[:, 14].sum()))}
+
+    def ended_slots(self, key):
+        """The values of the tally slots ``key`` that the last ``settle`` read (a scheme's ``end_reductions``), or
+        None where the particles have changed since or the slots were not filled then."""
+        end, where = self._ended(), self.tally.where(key)
+        return None if end is None or where is None or where.stop > end["values"].shape[0] else end["values"][where]
+
+    def health_sums(self, gravity):
+        end = self._ended()
+        return end["health"] if end is not None else super().health_sums(gravity)
+
+    def particles_outside(self, lo, hi) -> int:
+        """None outside where the step-end bounds lie inside [lo, hi] (and every coordinate is finite); else
+        counted on the host."""
+        end = self._ended()
+        if end is not None and np.isfinite(end["sum"]).all() and (end["lo"] >= lo).all() and (end["hi"] <= hi).all():
+            return 0
+        return super().particles_outside(lo, hi)
 

@@ -381,3 +381,75 @@ def speed_and_density(p_v, p_rho, start, end, slot, out):
     cuda.atomic.max(out, 0, math.sqrt(v2))
     cuda.atomic.max(out, 1 + 2 * slot, -p_rho[p])
     cuda.atomic.max(out, 2 + 2 * slot, p_rho[p])
+
+
+#: what ``step_end`` reduces per material block, in its row: the minima of x (negated: maxima), the maxima of x,
+#: the sums of x (a NaN or Inf anywhere shows in them), the largest |v|, the smallest density (negated) and the
+#: largest, then the health sums (engine/health.health_sums): particles with a non-finite field, the kinetic
+#: energy and the energy gravity released
+END_ROW = 15
+END_MAXIMA = (0, 1, 2, 3, 4, 5, 9, 10, 11)
+#: a row's starting values (the maxima at -inf, the sums at 0)
+END_START = tuple(-math.inf if q in END_MAXIMA else 0.0 for q in range(END_ROW))
+
+
+@cuda.jit(device=True)
+def _end_is_max(q):
+    return q < 6 or 9 <= q < 12
+
+
+@cuda.jit
+def step_end(p_x, p_x0, p_v, p_rho, p_stress, p_mass, gravity, start, end, row):
+    """One material block's END_ROW quantities over particles start..end-1, each thread block reduced in shared
+    memory and added into ``row`` with one atomic per quantity (maxima by atomic max)."""
+    t = cuda.threadIdx.x
+    p = start + cuda.grid(1)
+    acc = cuda.shared.array((THREADS, END_ROW), float64)
+    for q in range(END_ROW):
+        acc[t, q] = -math.inf if _end_is_max(q) else 0.0
+    if p < end:
+        d = p_x.shape[1]
+        ok = True
+        v2 = 0.0
+        w = 0.0
+        for a in range(d):
+            x = p_x[p, a]
+            if math.isfinite(x):
+                acc[t, a] = -x
+                acc[t, 3 + a] = x
+            else:
+                ok = False
+            acc[t, 6 + a] = x
+            if not math.isfinite(p_v[p, a]):
+                ok = False
+            v2 += p_v[p, a] * p_v[p, a]
+            w += gravity[a] * (x - p_x0[p, a])
+        for k in range(6):
+            if not math.isfinite(p_stress[p, k]):
+                ok = False
+        acc[t, 9] = math.sqrt(v2)
+        acc[t, 10] = -p_rho[p]
+        acc[t, 11] = p_rho[p]
+        if ok:
+            acc[t, 13] = 0.5 * p_mass[p] * v2
+            acc[t, 14] = p_mass[p] * max(w, 0.0)
+        else:
+            acc[t, 12] = 1.0
+    cuda.syncthreads()
+    stride = THREADS // 2
+    while stride > 0:
+        if t < stride:
+            for q in range(END_ROW):
+                a, b = acc[t, q], acc[t + stride, q]
+                if _end_is_max(q):
+                    acc[t, q] = a if a >= b else b
+                else:
+                    acc[t, q] = a + b
+        cuda.syncthreads()
+        stride //= 2
+    if t == 0:
+        for q in range(END_ROW):
+            if _end_is_max(q):
+                cuda.atomic.max(row, q, acc[0, q])
+            else:
+                cuda.atomic.add(row, q, acc[0, q])

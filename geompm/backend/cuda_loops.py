@@ -119,6 +119,23 @@ def particle_kernel(prm, aux, dt, k, start, end, p_x, p_x0, p_v, p_C, p_mass, p_
 {scratch_and_acc}    particle_rule(prm, aux, dt, k, p_x[p], p_x0[p], p_v[p], p_C[p], p_mass[p], p_stress[p], work[:{used}], acc)
 {flush}'''
 
+#: consecutive passes of one particle rule (stages of one class, one ``aux``): each thread runs the rule of every
+#: stage on its particle in stage order, each stage's parameters a row of ``prms`` and its accumulator a row of
+#: ``outs`` (a rule changes only its own particle, so this is the stages' passes one after the other)
+GROUP = '''
+@cuda.jit
+def group_kernel(prms, aux, dt, k, start, end, p_x, p_x0, p_v, p_C, p_mass, p_stress, outs):
+    p = start + cuda.grid(1)
+    if p >= end:
+        return
+{scratch_and_acc}    for g in range(prms.shape[0]):
+        for r in range({slots}):
+            acc[r] = 0.0
+        particle_rule(prms[g], aux, dt, k, p_x[p], p_x0[p], p_v[p], p_C[p], p_mass[p], p_stress[p], work[:{used}],
+                      acc)
+        out = outs[g]
+{flush}'''
+
 EACH = '''
 @cuda.jit
 def each_kernel(n, {args}):
@@ -152,10 +169,11 @@ FLUSH = '''    for r in range({slots}):
 '''
 
 
-def _pass_source(template: str, scratch: int, slots: int, maxima) -> str:
+def _pass_source(template: str, scratch: int, slots: int, maxima, indent: str = "") -> str:
     keys = dict(scratch=max(scratch, 1), used=scratch, slots=max(slots, 1),
                 maxima_test=" or ".join(f"r == {int(i)}" for i in maxima) if maxima else "False")
-    return template.format(scratch_and_acc=ACCUMULATOR.format(**keys), flush=FLUSH.format(**keys), **keys)
+    flush = "".join(indent + line for line in FLUSH.format(**keys).splitlines(keepends=True))
+    return template.format(scratch_and_acc=ACCUMULATOR.format(**keys), flush=flush, **keys)
 
 
 def _kernel(kind: str, name: str, source: str, functions: dict):
@@ -188,6 +206,12 @@ def node_kernel(rule, scratch: int, slots: int, maxima=()):
 
 def particle_kernel(rule, scratch: int, slots: int, maxima=()):
     return _kernel("particle", "particle_kernel", _pass_source(PARTICLE, scratch, slots, maxima),
+                   {"particle_rule": rule})
+
+
+def group_kernel(rule, scratch: int, slots: int, maxima=()):
+    """The kernel of GROUP around ``rule``."""
+    return _kernel("particle_group", "group_kernel", _pass_source(GROUP, scratch, slots, maxima, "    "),
                    {"particle_rule": rule})
 
 

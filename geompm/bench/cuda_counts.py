@@ -6,8 +6,8 @@ device or under the simulator (NUMBA_ENABLE_CUDASIM=1), and counts them; a numpy
 counted apart (``implicit``: numba copies it to the device and back around the launch, a blocking round
 trip; the copy back goes through ``copy_to_host`` and is counted there too).  A ``copy_to_host`` blocks the host until the device has finished: ``blocking`` counts those and the
 synchronisations.  Device functions called inside a kernel are not launches (the simulator runs them
-through the same class; they are told apart by its kernel context).  ``step_counts`` runs a scene's steps
-under it: the table of docs/performance.md (benchmarks/device/count_launches.py).
+through the same class; they are told apart by its kernel context); the time spent inside launches is summed
+(``launch_seconds``).  ``step_counts`` runs a scene's steps under it: the table of docs/performance.md (benchmarks/device/count_launches.py).
 """
 
 from __future__ import annotations
@@ -19,6 +19,8 @@ from collections import Counter
 import numpy as np
 
 KINDS = ("launches", "implicit", "h2d", "d2h", "syncs", "blocking")
+#: seconds spent inside kernel launches (under the simulator: the kernels themselves, run as Python)
+INSIDE = "launch_seconds"
 
 
 def _targets():
@@ -56,6 +58,7 @@ def counting(sites: Counter | None = None):
     from numba import cuda
 
     counts = Counter({k: 0 for k in KINDS})
+    counts[INSIDE] = 0.0
     launcher, array, sim = _targets()
     saved = []
 
@@ -63,9 +66,16 @@ def counting(sites: Counter | None = None):
         original = getattr(owner, name)
 
         def wrapper(*args, **kwargs):
-            if count(args) and sites is not None:
+            counted = count(args)
+            if counted and sites is not None:
                 sites[(name, _caller())] += 1
-            return original(*args, **kwargs)
+            if not (counted and name == "__call__"):
+                return original(*args, **kwargs)
+            t0 = time.perf_counter()
+            try:
+                return original(*args, **kwargs)
+            finally:
+                counts[INSIDE] += time.perf_counter() - t0
 
         saved.append((owner, name, original))
         setattr(owner, name, wrapper)
@@ -98,13 +108,27 @@ def counting(sites: Counter | None = None):
 
 
 def step_counts(sim, steps: int, sites: Counter | None = None) -> dict:
-    """Per step, over ``steps`` steps of ``sim`` (a Simulation on the cuda backend) after one untimed step:
-    each count of KINDS and the host's wall time [s] (under the simulator that includes the kernels); ``sites``
-    as in ``counting``."""
-    sim.step(sim.stable_dt())  # the first step allocates and uploads
+    """Per step, over ``steps`` steps of ``sim`` (a Simulation on the cuda backend) after one untimed step, each
+    step as `geompm run` takes it (the time step, the step, the health and domain checks: engine/runner.py):
+    each count of KINDS, the wall time [s] and the host's own time [s], the wall time less the time inside kernel
+    launches (under the simulator those run the kernels as Python; on a device a launch is asynchronous and the
+    difference is the host's work plus its waits at blocking copies); ``sites`` as in ``counting``."""
+    from geompm.engine.health import HealthCheck, check_domain
+
+    health = HealthCheck(sim.scene, sim.domain.comm)
+
+    def step():
+        dt = sim.stable_dt()
+        health.before_step(sim, dt)
+        sim.step(dt)
+        health.after_step(sim)
+        check_domain(sim, False)
+
+    step()  # the first step allocates and uploads
     with counting(sites) as counts:
         t0 = time.perf_counter()
         for _ in range(steps):
-            sim.step(sim.stable_dt())
+            step()
         wall = time.perf_counter() - t0
-    return {**{k: counts[k] / steps for k in KINDS}, "wall_per_step": wall / steps, "steps": steps}
+    return {**{k: counts[k] / steps for k in KINDS}, "wall_per_step": wall / steps,
+            "host_per_step": (wall - counts[INSIDE]) / steps, "steps": steps}

@@ -23,59 +23,12 @@ window (grid.py) or, with ``run.on_leave_domain = "delete"``, removed here.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
-from numba import njit, prange
 
 from geompm.errors import SimulationError
 from geompm.backend.timestep import below_dt_min, viscous_limit, wave_speed
+from geompm.kernels.health import health_sums, outside_grid  # noqa: F401  (envelope.py and the tests take them here)
 from geompm.parallel.comm import SERIAL
-
-
-@njit(parallel=True, cache=True)
-def health_sums(p_x, p_x0, p_v, p_stress, p_mass, gravity):
-    """(number of particles with a non-finite field, kinetic energy, energy released by gravity).
-
-    The gravity term sums m g.(x - x0) over the particles that moved down only: the
-    energy gravity has released.  A net sum would let one runaway particle thrown
-    upwards cancel the descent of the whole mass (a 3D debris blow-up reported its
-    supply as 0 J that way); the positive part is still an upper bound of what the
-    run can turn into kinetic energy."""
-    n, d = p_x.shape
-    bad = 0
-    ek = 0.0
-    wg = 0.0
-    for p in prange(n):
-        ok = True
-        v2 = 0.0
-        w = 0.0
-        for a in range(d):
-            if not (math.isfinite(p_x[p, a]) and math.isfinite(p_v[p, a])):
-                ok = False
-            v2 += p_v[p, a] * p_v[p, a]
-            w += gravity[a] * (p_x[p, a] - p_x0[p, a])
-        for k in range(6):
-            if not math.isfinite(p_stress[p, k]):
-                ok = False
-        if ok:
-            ek += 0.5 * p_mass[p] * v2
-            wg += p_mass[p] * max(w, 0.0)
-        else:
-            bad += 1
-    return bad, ek, wg
-
-
-@njit(parallel=True, cache=True)
-def outside_grid(p_x, lo, hi):
-    """Mask of particles outside the box [lo, hi]."""
-    n, d = p_x.shape
-    out = np.zeros(n, np.bool_)
-    for p in prange(n):
-        for a in range(d):
-            if not (lo[a] <= p_x[p, a] <= hi[a]):
-                out[p] = True
-    return out
 
 
 def _first_nonfinite(st) -> int:
@@ -135,16 +88,19 @@ class HealthCheck:
         self.released = 0.0  # energy gravity has released so far [J] (health_sums)
 
     def after_step(self, sim) -> None:
-        st, sc = sim.state, self.scene
+        """The sums come from the backend (a device backend reduces them there: no particle array is read on the
+        host unless a check fails)."""
+        sc = self.scene
         comm = self.comm
-        mine, ek, wg = health_sums(st.p_x, st.p_x0, st.p_v, st.p_stress, st.p_mass, sc.gravity)
-        work = sim.water.work(st, sim.time)
+        mine, ek, wg = sim.backend.health_sums(sc.gravity)
+        work = sim.water.work(sim.backend, sim.time)
         bad, ek, wg, work = comm.sum([mine, ek, wg, work])
         bad, ek, wg = int(round(bad)), float(ek), float(wg)
         self.kinetic_energy, self.released = ek, wg
         if bad:
             message = None
             if mine:
+                st = sim.state
                 p = _first_nonfinite(st)
                 field = next(name for name, arr in (("position", st.p_x), ("velocity", st.p_v),
                                                     ("stress", st.p_stress)) if not np.isfinite(arr[p]).all())
@@ -155,6 +111,7 @@ class HealthCheck:
         allowed += float(work)
         if ek > 2.0 * allowed + self.floor:
             p, top = fastest(comm, sim)
+            st = sim.state
             raise SimulationError(first_message(comm, None if not top else
                 f"kinetic energy {ek:.4g} J exceeds what gravity, the initial stress, moving obstacles, loads and "
                 f"a water table can "
@@ -197,11 +154,12 @@ def check_domain(sim, delete: bool) -> int:
     return how many, or stop the run naming the first one."""
     sc, comm = sim.scene, sim.domain.comm
     h = sc.grid.h
-    mask = outside_grid(sim.state.p_x, sc.grid.origin - h, sc.grid.upper + h)
-    mine = int(mask.sum())
-    k = int(round(float(comm.sum([mine])[0])))
+    lo, hi = sc.grid.origin - h, sc.grid.upper + h
+    k = int(round(float(comm.sum([sim.backend.particles_outside(lo, hi)])[0])))
     if not k:
         return 0
+    mask = outside_grid(sim.state.p_x, lo, hi)
+    mine = int(mask.sum())
     if delete:
         if mine:
             sim.state.remove(mask)

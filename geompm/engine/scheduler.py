@@ -40,16 +40,19 @@ class Simulation(StepContext):
 
     def step(self, dt: float) -> None:
         """One step of the scene's scheme, the clock only while a scene with sources holds no particle; then the
-        sources' particles due by the step's end (what is written at that time holds them)."""
+        sources' particles due by the step's end (what is written at that time holds them).  The backend settles
+        the step's reductions before anything reads them (Backend.settle)."""
         if self.sources:
             self.supply()
             if self.count() == 0:
                 self.dt, self.time, self.step_count = dt, self.time + dt, self.step_count + 1
             else:
                 self.scheme.step(self, dt)
+                self.backend.settle()
             self.supply()
             return
         self.scheme.step(self, dt)
+        self.backend.settle()
 
     @property
     def buffers(self):

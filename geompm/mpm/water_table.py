@@ -124,8 +124,9 @@ class WaterTable:
             out["pond_level"] = self.pond_level(time)
         return out
 
-    def work(self, st, time: float) -> float:
+    def work(self, backend, time: float) -> float:
         """The work [J] the table's pressure can have done on the particles (kernels/phreatic.pore_work)."""
+        st = backend.host_state()
         plane = self.normal is not None and self.surface is None
         direction = self.normal if plane else self._up_vector(st.p_x.shape[1])
         return float(pore_work(self.pressure(st.p_x, st.p_material, time), st.p_vol, st.p_vol0, st.p_x, st.p_x0,
@@ -171,7 +172,7 @@ class NoWaterTable:
     def series(self, time: float) -> dict[str, float]:
         return {}
 
-    def work(self, st, time: float) -> float:
+    def work(self, backend, time: float) -> float:
         return 0.0
 
     def point_data(self, st, time: float, mean_p) -> dict:

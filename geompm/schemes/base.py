@@ -63,6 +63,10 @@ class NoPasses:
         """The step's wave speed [m/s] from each material block's law speed (a device backend's reduction)."""
         return max(laws, default=0.0)
 
+    def end_reductions(self, backend) -> None:
+        """Launch, at the end of a step on a device backend, the reductions the scheme's next ``wave_speed`` reads
+        (into the backend's tally, read with the step's other numbers: backend/cuda.py ``settle``)."""
+
 
 NO_PASSES = NoPasses()
 

@@ -38,6 +38,10 @@ _speed = _device(tp.speed_terms_one)
 
 
 # -- scatters (atomics) and the stable step's reduction ------------------------------------------------
+#: speed_terms' starting values (a minimum's start above any porosity, a maximum's at zero)
+SPEED_START = (1.0, 0.0, math.inf, 0.0)
+
+
 @cuda.jit
 def speed_terms(p_v, p_vw, p_n, p_rho, p_sat, row, start, end, out):
     """out <- (min n of the wet particles, max dry density, min saturated density, max squared speed) over
@@ -133,7 +137,8 @@ class SaturatedCuda(SaturatedPasses):
         return SimpleNamespace(**self.be._device())
 
     def window_index(self, view):
-        return cuda.to_device(view.lo), cuda.to_device(view.nloc)
+        """The window's corner and size on the device: the backend's copies, sent again only when they change."""
+        return self.be._small("lo", view.lo), self.be._small("nloc", view.nloc)
 
     def _scatter(self, view, lo, nloc, P) -> None:
         be, g, n, nn = self.be, self.scene.grid, self.n, view.g_mass.shape[0]
@@ -155,20 +160,33 @@ class SaturatedCuda(SaturatedPasses):
             smooth_scatter[K.blocks(n), K.THREADS](be.S, P.p_x, p_val, P.p_drained, P.p_vol, be._origin, g.h,
                                                    g.kind, lo, nloc, self.g_vp[:nn])
 
+    def _speed_terms(self, k, s, e, out) -> None:
+        dev = self.be._device()
+        speed_terms[K.blocks(e - s), K.THREADS](dev["p_v"], dev["p_vw"], dev["p_n"], dev["p_rho"], dev["p_sat"],
+                                                self.table[k], s, e, out)
+
+    def end_reductions(self, backend) -> None:
+        """The next step's speed terms of each material block into the backend's tally (read with the step's end)."""
+        for k, (s, e) in enumerate(backend.state.blocks):
+            out = backend.tally.slots(("saturated_speed", k), SPEED_START)
+            if e > s:
+                self._speed_terms(k, s, e, out)
+
     def wave_speed(self, law_speeds) -> float:
         """The largest of the undrained, water and skeleton wave speeds (schemes/saturated/speeds.py) from one
         reduction per material block, the blocks' extremes reduced over the ranks before they are combined;
         ``law_speeds[k]``: the law's speed over block k's densities."""
         be, st, pw = self.be, self.be.state, self.pw
-        dev = be._device()
         rows = np.tile(np.array(speeds.EMPTY_ROW), (len(st.blocks), 1))
         for k, (s, e) in enumerate(st.blocks):
             if e <= s:
                 continue
-            out = cuda.to_device(np.array([1.0, 0.0, math.inf, 0.0]))
-            speed_terms[K.blocks(e - s), K.THREADS](dev["p_v"], dev["p_vw"], dev["p_n"], dev["p_rho"], dev["p_sat"],
-                                                    self.table[k], s, e, out)
-            n_min, rho_d, rho_sat, v2 = out.copy_to_host()
+            terms = be.ended_slots(("saturated_speed", k))
+            if terms is None:  # the particles changed since the step's end (or before the first step)
+                out = cuda.to_device(np.array(SPEED_START))
+                self._speed_terms(k, s, e, out)
+                terms = out.copy_to_host()
+            n_min, rho_d, rho_sat, v2 = terms
             rows[k] = (law_speeds[k], -n_min, rho_d, -rho_sat, math.sqrt(v2))
         rows = np.asarray(be.domain.comm.max(rows.ravel())).reshape(rows.shape)
         c = speeds.combined_speeds(rows, pw, self.scene.material_names,
