@@ -3,11 +3,14 @@
 ``counting()`` wraps, for the duration of a ``with`` block, numba-cuda's kernel launch, its explicit copies
 (``cuda.to_device``, a device array's ``copy_to_device`` and ``copy_to_host``) and ``cuda.synchronize``, on a
 device or under the simulator (NUMBA_ENABLE_CUDASIM=1), and counts them; a numpy array handed to a kernel is
-counted apart (``implicit``: numba copies it to the device and back around the launch, a blocking round
-trip; the copy back goes through ``copy_to_host`` and is counted there too).  A ``copy_to_host`` blocks the host until the device has finished: ``blocking`` counts those and the
-synchronisations.  Device functions called inside a kernel are not launches (the simulator runs them
-through the same class; they are told apart by its kernel context); the time spent inside launches is summed
-(``launch_seconds``).  ``step_counts`` runs a scene's steps under it: the table of docs/performance.md (benchmarks/device/count_launches.py).
+counted apart (``implicit``: numba copies it to the device and back around the launch, a blocking round trip; the
+copy back goes through ``copy_to_host`` and is counted there too). ``blocking`` counts what makes the host wait for
+the device to finish the work launched before: a copy to the host, a synchronisation, and a copy from the host's
+(pageable) memory to the device, before which the driver synchronises the stream (CUDA Driver API, "API
+synchronization behavior", docs.nvidia.com/cuda/cuda-driver-api/api-sync-behavior.html). Device functions called
+inside a kernel are not launches (the simulator runs them through the same class; they are told apart by its kernel
+context); the time spent inside launches is summed (``launch_seconds``). ``step_counts`` runs a scene's steps under
+it: the table of docs/performance.md (benchmarks/device/count_launches.py).
 """
 
 from __future__ import annotations
@@ -97,8 +100,8 @@ def counting(sites: Counter | None = None):
 
     wrap(launcher, "__call__", launch)
     wrap(array, "copy_to_host", add("d2h", "blocking"))
-    wrap(array, "copy_to_device", add("h2d"))
-    wrap(cuda, "to_device", add("h2d"))
+    wrap(array, "copy_to_device", add("h2d", "blocking"))
+    wrap(cuda, "to_device", add("h2d", "blocking"))
     wrap(cuda, "synchronize", add("syncs", "blocking"))
     try:
         yield counts

@@ -48,11 +48,12 @@ print({k: c[k] for k in ("launches", "implicit", "h2d", "d2h", "syncs", "blockin
 def test_the_counter_sees_launches_copies_and_synchronisations():
     """Two launches (the device function inside is none), one numpy argument (an implicit round trip, whose copy
     back numba makes through the same call: two copies to the host), one explicit copy each way, one
-    synchronisation."""
+    synchronisation; all four copies and the synchronisation but the implicit one's copy to the device (made
+    inside the launch) make the host wait: four blocking."""
     r = subprocess.run([sys.executable, "-c", PROBE], env=SIM, capture_output=True, text=True, cwd=ROOT, timeout=300)
     assert r.returncode == 0, r.stderr[-2000:]
     counts, out = r.stdout.strip().rsplit(" [", 1)
-    assert eval(counts) == {"launches": 2, "implicit": 1, "h2d": 1, "d2h": 2, "syncs": 1, "blocking": 3}
+    assert eval(counts) == {"launches": 2, "implicit": 1, "h2d": 1, "d2h": 2, "syncs": 1, "blocking": 4}
     assert out == "0.0, 2.0, 4.0, 6.0]"
 
 
