@@ -22,14 +22,15 @@ here=$(cd "$(dirname "$0")" && pwd)
   # step), then 1.6M, the dam-break equality check, 204k, the tiled P2G; every command gets its own
   # timeout or what is left, whichever is less, and is named if it is cut or skipped.
   gpu_start 430 || exit 2
-  # DRY=1 (the dry run under the simulator; 4-6 minutes on 2 cores, so not in CI: benchmarks/results/
-  # 2026-12-06-issue59/device-dry-run.log): every command as below at 8 cells per side, one timed step, one
-  # parity step on a coarse dam break, one tiny parity scene, each limit and the deadline four times longer
+  # DRY=1 (the dry run under the simulator): every command as below at DRY_CELLS cells per side (default 8:
+  # 4-6 minutes on 2 cores, benchmarks/results/2026-12-06-issue59/device-dry-run.log; CI runs it at 4, about
+  # 100 s: tests/cuda/test_device_script.py), one timed step, one parity step on a coarse dam break, one tiny
+  # parity scene, each limit and the deadline four times longer
   steps200=200; dam=""; tiny=""
   [ -n "${DRY:-}" ] && { steps200=1; dam="--set grid.cell_size=0.05"; tiny="elastic_apic_quadratic_usl"; }
   bench() {  # timeout, cells per side, precision, timed steps, then scenes and extra options
     limit=$1; n=$2; p=$3; steps=$4; shift 4
-    [ -n "${DRY:-}" ] && { n=8; steps=1; }
+    [ -n "${DRY:-}" ] && { n=${DRY_CELLS:-8}; steps=1; }
     step "$limit" geompm bench --backend cuda --no-cold --no-bandwidth --json --steps "$steps" \
       --set grid.cell_size="$(python3 -c "print(1/$n)")" --set solver.precision="$p" "$@"
   }

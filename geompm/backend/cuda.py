@@ -6,20 +6,24 @@ the host ``ParticleState`` stays the canonical copy for everything else
 (ids, bodies, writers, checkpoints).  ``host_state()`` copies the device
 arrays into it and marks the host as current; the next kernel uploads the
 host arrays again first, so whatever the host did in between (a checkpoint
-restored, particles deleted by the health check, the spatial sort) reaches
-the device.  Between output, series, health and sort times a step therefore
-moves only a few numbers to the host: the grid window's bounds, the time
-step's speed and density extremes and largest |L_ii|, and each stage's
-reduction row.
+restored, particles deleted by the domain check or added by a source)
+reaches the device.  Between output, series and checkpoint times a step
+copies one array to the host: the step's tally (backend/cuda_tally.py), every
+reduction of the step in its own slots, read at the step's end (``settle``):
+each stage pass's accumulator, the largest |L_ii|, and the step-end
+reductions (cuda_kernels.step_end) that the next step's time step, grid
+window and the health and domain checks read (``health_sums``,
+``particles_outside``).
 
 Kernels: P2G by atomics (or, with ``solver.p2g: "tiled"``, through a
 shared-memory tile per thread block), the grid update and G2P
 (backend/cuda_kernels.py);
 one kernel per law and per stage function around the plugin's own
-``@njit`` per-item function (backend/cuda_loops.py).  A stage's ``prm`` (a
-few numbers that may change between steps) goes to the device at every
-pass; its ``aux`` table (an obstacle's signed-distance lattice, a DEM) once,
-and again only when the stage hands a different array.
+``@njit`` per-item function (backend/cuda_loops.py); consecutive particle
+stages of one class in one launch (cuda_loops.GROUP).  A stage's ``prm`` (a
+few numbers that may change between steps) goes to the device when its
+values change; its ``aux`` table (an obstacle's signed-distance lattice, a
+DEM) once, and again only when the stage hands a different array.
 
 The spatial sort runs on the device (backend/cuda_sort.py): only its
 permutation comes to the host, for the host-only arrays.
@@ -203,7 +207,7 @@ class CudaBackend(Backend):
         self._moved += 1
 
     def material_parameters_changed(self) -> None:
-        self._prm = [cuda.to_device(m.prm) for m in self.scene.materials]
+        self._prm = [self._small(("material", k), m.prm) for k, m in enumerate(self.scene.materials)]
 
     def update_stress(self, dt: float) -> None:
         dev = self._device()

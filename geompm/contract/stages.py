@@ -216,7 +216,10 @@ class GridStage(Stage):
         raise NotImplementedError
 
     def grid_reduced(self, out, dt: float, time: float, remap: bool) -> None:
-        """The pass's accumulator rows (threads, node_reduction), on the host (reused by the next pass)."""
+        """The pass's accumulator rows (threads, node_reduction), on the host (reused by the next pass).  A backend
+        may hand them at the step's end rather than after the pass (the CUDA backend reads a step's reductions
+        at once: backend/cuda_tally.py), always in pass order and before anything reads the stage; so a pass's
+        arguments must not depend on a reduction of the same step."""
 
 
 class ParticleStage(Stage):
@@ -254,7 +257,8 @@ class ParticleStage(Stage):
         return np.full(len(lo), -np.inf), np.full(len(hi), np.inf)
 
     def particle_reduced(self, out, dt: float, time: float) -> None:
-        """The pass's accumulator rows (threads, particle_reduction), on the host (reused by the next pass)."""
+        """The pass's accumulator rows (threads, particle_reduction), on the host (reused by the next pass); handed
+        when ``grid_reduced`` says."""
 
 
 class ParticleSource(Stage):
