@@ -346,10 +346,7 @@ class CudaBackend(Backend):
             else:
                 runs.append([(stage, args)])
         for run in runs:
-            if len(run) == 1:
-                self._particle_pass(*run[0], dt, time)
-            else:
-                self._particle_group(run, dt, time)
+            self._particle_pass(run, dt, time)
 
     def _joins(self, a, b) -> bool:
         (sa, (pa, xa)), (sb, (pb, xb)) = a, b
@@ -358,15 +355,22 @@ class CudaBackend(Backend):
             sa.particle_reduction == sb.particle_reduction and \
             list(sa.particle_blocks(n)) == list(sb.particle_blocks(n))
 
-    def _particle_group(self, run, dt: float, time: float) -> None:
+    def particle_stage(self, stage, dt: float, time: float) -> None:
+        args = stage.particle_args(dt, time)
+        if args is not None:
+            self._particle_pass([(stage, args)], dt, time)
+
+    def _particle_pass(self, run, dt: float, time: float) -> None:
+        """One launch per material block for the (stage, (prm, aux)) pairs of ``run``, stages of one class."""
         dev, st = self._device(), self.state
         first = run[0][0]
         cls, ids = type(first), tuple(id(s) for s, _ in run)
-        prms = self._small(("group", ids), np.stack([np.asarray(a[0], np.float64) for _, a in run]))
+        prms = self._small(("particle", ids), np.stack([np.asarray(a[0], np.float64) for _, a in run]))
         aux = self._table(first, "particle", run[0][1][1])
         slots = max(first.particle_reduction, 1)
-        outs, where = self._pass_slots((ids, "group"), slots * len(run))
-        kern = cuda_loops.group_kernel(cls.particle_rule, max(cls.particle_scratch, 1), slots, cls.particle_maxima)
+        outs, where = self._pass_slots((ids, "particle"), slots * len(run))
+        kern = cuda_loops.particle_kernel(cls.particle_rule, max(cls.particle_scratch, 1), slots,
+                                          cls.particle_maxima)
         outs = outs.reshape(len(run), slots)
         self._moved += 1
         for k in first.particle_blocks(len(st.blocks)):
@@ -377,26 +381,6 @@ class CudaBackend(Backend):
         for g, (stage, _) in enumerate(run):
             at = slice(where.start + g * slots, where.start + (g + 1) * slots)
             self._hand(lambda rows, stage=stage: stage.particle_reduced(rows, dt, time), at, stage.particle_reduction)
-
-    def particle_stage(self, stage, dt: float, time: float) -> None:
-        args = stage.particle_args(dt, time)
-        if args is not None:
-            self._particle_pass(stage, args, dt, time)
-
-    def _particle_pass(self, stage, args, dt: float, time: float) -> None:
-        dev, st, cls = self._device(), self.state, type(stage)
-        prm, aux = self._small((id(stage), "particle"), args[0]), self._table(stage, "particle", args[1])
-        slots = max(stage.particle_reduction, 1)
-        out, where = self._pass_slots((id(stage), "particle"), slots)
-        self._moved += 1
-        kern = cuda_loops.particle_kernel(cls.particle_rule, max(cls.particle_scratch, 1), slots,
-                                          cls.particle_maxima)
-        for k in stage.particle_blocks(len(st.blocks)):
-            s, e = st.blocks[k]
-            if e > s:
-                kern[K.blocks(e - s), K.THREADS](prm, aux, dt, k, s, e, dev["p_x"], dev["p_x0"], dev["p_v"],
-                                                 dev["p_C"], dev["p_mass"], dev["p_stress"], out)
-        self._hand(lambda rows: stage.particle_reduced(rows, dt, time), where, stage.particle_reduction)
 
     # -- the step's reductions, read once at its end -----------------------------------------------------
     def _pass_slots(self, key, slots: int):

@@ -110,18 +110,10 @@ def node_kernel(prm, aux, dt, origin, h, lo, nloc, b0, bn, total, g_mass, g_vel,
               work[:{used}], acc)
 {flush}'''
 
-PARTICLE = '''
-@cuda.jit
-def particle_kernel(prm, aux, dt, k, start, end, p_x, p_x0, p_v, p_C, p_mass, p_stress, out):
-    p = start + cuda.grid(1)
-    if p >= end:
-        return
-{scratch_and_acc}    particle_rule(prm, aux, dt, k, p_x[p], p_x0[p], p_v[p], p_C[p], p_mass[p], p_stress[p], work[:{used}], acc)
-{flush}'''
-
-#: consecutive passes of one particle rule (stages of one class, one ``aux``): each thread runs the rule of every
-#: stage on its particle in stage order, each stage's parameters a row of ``prms`` and its accumulator a row of
-#: ``outs`` (a rule changes only its own particle, so this is the stages' passes one after the other)
+#: a particle rule's pass over the particles start..end of one block, for one stage or for consecutive stages of one
+#: class that share their ``aux`` (the walls of a box): each thread runs the rule of every stage on its particle in
+#: stage order, each stage's parameters a row of ``prms`` and its accumulator a row of ``outs`` (a rule changes only
+#: its own particle, so this is the stages' passes one after the other)
 GROUP = '''
 @cuda.jit
 def group_kernel(prms, aux, dt, k, start, end, p_x, p_x0, p_v, p_C, p_mass, p_stress, outs):
@@ -205,13 +197,8 @@ def node_kernel(rule, scratch: int, slots: int, maxima=()):
 
 
 def particle_kernel(rule, scratch: int, slots: int, maxima=()):
-    return _kernel("particle", "particle_kernel", _pass_source(PARTICLE, scratch, slots, maxima),
-                   {"particle_rule": rule})
-
-
-def group_kernel(rule, scratch: int, slots: int, maxima=()):
     """The kernel of GROUP around ``rule``."""
-    return _kernel("particle_group", "group_kernel", _pass_source(GROUP, scratch, slots, maxima, "    "),
+    return _kernel("particle", "group_kernel", _pass_source(GROUP, scratch, slots, maxima, "    "),
                    {"particle_rule": rule})
 
 
