@@ -40,6 +40,9 @@ def mass_floor(scene) -> float:
 
 class Backend:
     name: ClassVar[str] = ""
+    #: the host ParticleState object (its values are current only through ``host_state()`` on a device backend;
+    #: its array names, dtypes, shapes and blocks always are)
+    state = None
     #: the run's decomposition over processes (parallel/whole.py, parallel/slabs.py): the backend asks it
     #: which nodes a stage's reduction counts and stacks every rank's accumulator rows through it
     domain = WHOLE

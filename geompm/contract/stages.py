@@ -269,7 +269,8 @@ class ParticleSource(Stage):
     packet only (the next migration sends each particle to its rank)."""
 
     def supply(self, state, time: float):
-        """The packet of the particles due by ``time`` [s] in the dtypes of ``state``, or None."""
+        """The packet of the particles due by ``time`` [s] in the dtypes of ``state``, or None.  Read only the
+        state's array names, dtypes, shapes and blocks: on a device backend its values are not current."""
         return None
 
     def pending(self, time: float) -> bool:

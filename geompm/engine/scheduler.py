@@ -83,7 +83,9 @@ class Simulation(StepContext):
         """Each source's particles due by now, merged into the root rank's state (parallel/migrate.py; the
         migration that follows sends them to their ranks); every rank asks every source, so their counts agree."""
         for source in self.sources:
-            packet = source.supply(self.state, self.time)
+            # the source reads the state's array names, dtypes and shapes only: the backend's host object, whose
+            # values a device backend has not brought back (``self.state`` would copy every array, every step)
+            packet = source.supply(self.backend.state, self.time)
             if packet is not None and self.domain.comm.is_root:
                 merge(self.state, np.ones(self.state.n, bool), [packet])
                 self.backend.particles_added()
