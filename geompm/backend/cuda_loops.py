@@ -193,11 +193,22 @@ def relaxed_kernel(law):
 
 
 def node_kernel(rule, scratch: int, slots: int, maxima=()):
-    return _kernel("node", "node_kernel", _pass_source(NODE, scratch, slots, maxima), {"node_rule": rule})
+    """The kernel of NODE around ``rule`` (looked up per pass: cached by its arguments, no source formatted)."""
+    return _node_kernel(rule, scratch, slots, tuple(maxima))
 
 
 def particle_kernel(rule, scratch: int, slots: int, maxima=()):
-    """The kernel of GROUP around ``rule``."""
+    """The kernel of GROUP around ``rule`` (cached as ``node_kernel``)."""
+    return _particle_kernel(rule, scratch, slots, tuple(maxima))
+
+
+@functools.cache
+def _node_kernel(rule, scratch, slots, maxima):
+    return _kernel("node", "node_kernel", _pass_source(NODE, scratch, slots, maxima), {"node_rule": rule})
+
+
+@functools.cache
+def _particle_kernel(rule, scratch, slots, maxima):
     return _kernel("particle", "group_kernel", _pass_source(GROUP, scratch, slots, maxima, "    "),
                    {"particle_rule": rule})
 
