@@ -307,8 +307,6 @@ class CudaBackend(Backend):
         d = self.scene.dim
         box = stage.node_box(time)
         first, last = (np.full(d, -FAR_NODE), np.full(d, FAR_NODE)) if box is None else box
-        b0 = np.minimum(np.maximum(np.asarray(first) - view.lo, 0), view.nloc)
-        bn = np.maximum(np.minimum(np.asarray(last) - view.lo + 1, view.nloc) - b0, 0)
         slots = max(stage.node_reduction, 1)
         (out, where), spill = self._pass_slots((id(stage), "grid"), slots), None
         kern = cuda_loops.node_kernel(cls.node_rule, cls.node_scratch, slots, cls.node_maxima)
