@@ -1,6 +1,7 @@
 """Count what each CUDA step asks of the host (geompm/bench/cuda_counts.py): kernel launches, numpy arrays
 handed to kernels (implicit round trips), copies each way, synchronisations, per step, for the bench scenes
-(coarsened for the simulator), the softening scenes and the saturated one.
+(coarsened for the simulator), the softening scenes, the saturated one and a scene that sorts its particles every
+step (an obstacle with its guard).
 
     NUMBA_ENABLE_CUDASIM=1 python benchmarks/device/count_launches.py [--steps 3] [--cells 8] [SCENE ...]
     python benchmarks/device/count_launches.py ...      (on a GPU: the same counts, the real host time)
@@ -48,7 +49,8 @@ def main(argv=None) -> int:
     folder = Path(tempfile.mkdtemp())
     tiny = parity_scenes(folder)
     chosen = {**bench_scenes(args.cells),
-              **{k: tiny[k] for k in ("mohr_coulomb_softening_trigger", "drucker_prager_softening_2d")}}
+              **{k: tiny[k] for k in ("mohr_coulomb_softening_trigger", "drucker_prager_softening_2d",
+                                      "drucker_prager_cylinder_sorted")}}
     names = args.scenes or list(chosen)
     print(f"{'scene':<32}{'particles':>10}" + "".join(f"{k:>10}" for k in KINDS) + f"{'wall ms':>10}{'host ms':>10}")
     for name in names:
@@ -57,6 +59,7 @@ def main(argv=None) -> int:
             scene = scene_from_file(spec[0], spec[1] + ["solver.backend=cuda"])
         else:
             raw = json.loads(json.dumps(spec))
+            raw.pop("parity_place", None)  # the parity run's own key (tests/cuda/cuda_parity.py)
             raw.setdefault("solver", {})["backend"] = "cuda"
             scene = scene_from_dict(raw, folder)
         sim = Simulation(scene)

@@ -117,6 +117,7 @@ class CudaBackend(Backend):
         self._moved = 0  # bumped by whatever changes the device particles (their step-end reductions lapse)
         self._end = None  # (the _moved it was taken at, its values by name): settle's step-end reductions
         self._spill = {}  # slots -> a device sink for the rows of nodes another rank counts
+        self._perm = None  # the device sorts' permutations since the host's arrays were last put in order
         #: the scheme's own passes on this backend (schemes/base.Scheme.backend_passes)
         self.scheme_passes = scene.scheme.backend_passes(self)
         self.device_arrays = DEVICE_ARRAYS + self.scheme_passes.device_arrays
@@ -138,6 +139,10 @@ class CudaBackend(Backend):
                 setattr(st, k, d.copy_to_host())
             st.p_state = [d.copy_to_host() for d in self._dev_state]
             self._on_host = True
+        if self._perm is not None:  # the host-only arrays (ids, bodies, reference volumes) follow the sorts
+            st = self.state
+            st.reorder(self._perm.copy_to_host(), skip=self.device_arrays, states=False)
+            self._perm = None
         self._end = None  # the caller may change the host arrays
         return self.state
 
@@ -257,17 +262,20 @@ class CudaBackend(Backend):
             cuda_loops.each_kernel(fn)[K.blocks(n), K.THREADS](n, *args)
 
     def sort_particles(self) -> None:
-        """The counting sort on the device (backend/cuda_sort.py); only the permutation comes to the host,
-        for the arrays that live there (ids, bodies, reference volumes)."""
+        """The counting sort on the device (backend/cuda_sort.py).  The arrays that live on the host (ids, bodies,
+        reference volumes) follow when the host next reads the state: the permutations are composed on the
+        device until then, so a sort makes the host wait for nothing."""
         st = self.state
         if not st.n:
             return
+        end = self._ended()  # the blocks' cell ranges from the step-end bounds, where they hold: no copy
         dev = self._device()
-        perm = cuda_sort.cell_order(dev["p_x"], self._origin, self.scene.grid.h, st.blocks)
+        perm = cuda_sort.cell_order(dev["p_x"], self._origin, self.scene.grid.h, st.blocks,
+                                    None if end is None else end["block_cells"], self._small)
         for k in self.device_arrays:
             dev[k] = cuda_sort.gather(dev[k], perm)
         self._dev_state = [cuda_sort.gather(sv, perm[s:e], s) for sv, (s, e) in zip(self._dev_state, st.blocks)]
-        st.reorder(perm.copy_to_host(), skip=self.device_arrays, states=False)
+        self._perm = perm if self._perm is None else cuda_sort.gather(self._perm, perm)
 
     # -- stages ------------------------------------------------------------------------------------------
     def _table(self, stage, kind: str, aux):
@@ -436,7 +444,14 @@ class CudaBackend(Backend):
         speed_density = np.empty(1 + 2 * nb)
         speed_density[0] = rows[:, 9].max()
         speed_density[1::2], speed_density[2::2] = rows[:, 10], rows[:, 11]
-        return {"values": values, "lo": -rows[:, 0:d].max(axis=0), "hi": rows[:, 3:3 + d].max(axis=0),
+        spec = self.scene.grid
+        block_cells = []
+        for row, (s, e) in zip(rows, self.state.blocks):  # each block's lowest and highest cell (cuda_sort.py)
+            lo, hi, total = -row[0:d], row[3:3 + d], row[6:6 + d]
+            finite = e > s and np.isfinite(total).all() and np.isfinite(lo).all() and np.isfinite(hi).all()
+            block_cells.append((np.floor((lo - spec.origin) * (1.0 / spec.h)).astype(np.int64),
+                                np.floor((hi - spec.origin) * (1.0 / spec.h)).astype(np.int64)) if finite else None)
+        return {"values": values, "block_cells": block_cells, "lo": -rows[:, 0:d].max(axis=0), "hi": rows[:, 3:3 + d].max(axis=0),
                 "sum": rows[:, 6:6 + d].sum(axis=0), "speed_density": speed_density,
                 "health": (float(rows[:, 12].sum()), float(rows[:, 13].sum()), float(rows[:, 14].sum()))}
 

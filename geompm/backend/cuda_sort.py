@@ -6,7 +6,8 @@ their relative order), built without the particle arrays leaving the GPU:
 
 1. ``cell_bounds``: each particle's cell, and the block's lowest and highest
    cell per axis by atomic min/max (a 2 x d row comes to the host to size the
-   counts);
+   counts, unless the caller knows them: the CUDA backend's step-end bounds of
+   each block, backend/cuda_kernels.step_end, give them without a copy);
 2. ``cell_count``: each particle's key (the linear cell index) and an atomic
    histogram ``count[key + 1] += 1``;
 3. ``scan``: the inclusive prefix sum of the histogram (a Hillis-Steele scan
@@ -132,28 +133,49 @@ def order_cells(count, start, perm):
         perm[j + 1] = v
 
 
-def cell_order(p_x, origin, h: float, block_list):
+@cuda.jit
+def zero_counts(count):
+    i = cuda.grid(1)
+    if i < count.shape[0]:
+        count[i] = 0
+
+
+def _sent(key, values):
+    return cuda.to_device(values)
+
+
+def cell_order(p_x, origin, h: float, block_list, extents=None, send=_sent):
     """Device int64 permutation of all n particles: perm[k] is the particle that goes to row k
-    (kernels/sort.cell_order on each block of ``block_list``, equal to it row for row)."""
+    (kernels/sort.cell_order on each block of ``block_list``, equal to it row for row).  ``extents``: per block
+    its (lowest, highest) cell per axis ((d,) int64 each) where the caller knows them, else None (found here, one
+    copy to the host per block); ``send(key, array)``: a small array on the device (the CUDA backend's copy,
+    sent again only when its values change)."""
     n, d = p_x.shape
     perm = cuda.device_array(n, dtype=np.int64)
     inv_h = 1.0 / h
-    for start, end in block_list:
+    for k, (start, end) in enumerate(block_list):
         m = end - start
         if m == 0:
             continue
         cells = cuda.device_array((m, d), dtype=np.int64)
-        lohi = cuda.to_device(np.array([[_BIG] * d, [-_BIG - 1] * d], dtype=np.int64))
-        cell_bounds[blocks(m), THREADS](p_x, origin, inv_h, start, end, cells, lohi)
-        lo, hi = lohi.copy_to_host()
+        known = extents[k] if extents is not None else None
+        if known is None:
+            lohi = cuda.to_device(np.array([[_BIG] * d, [-_BIG - 1] * d], dtype=np.int64))
+            cell_bounds[blocks(m), THREADS](p_x, origin, inv_h, start, end, cells, lohi)
+            lo, hi = lohi.copy_to_host()
+        else:  # the cells only: the bounds' atomics go to scratch that nothing reads
+            lo, hi = known
+            cell_bounds[blocks(m), THREADS](p_x, origin, inv_h, start, end, cells, cuda.device_array((2, d), np.int64))
         stride = np.empty(d, dtype=np.int64)
         total = 1
         for a in range(d - 1, -1, -1):
             stride[a] = total
             total *= int(hi[a] - lo[a] + 1)
         key = cuda.device_array(m, dtype=np.int64)
-        count = cuda.to_device(np.zeros(total + 1, dtype=np.int64))
-        cell_count[blocks(m), THREADS](cells, cuda.to_device(lo), cuda.to_device(stride), key, count)
+        count = cuda.device_array(total + 1, dtype=np.int64)
+        zero_counts[blocks(total + 1), THREADS](count)
+        cell_count[blocks(m), THREADS](cells, send(("sort_lo", k), np.asarray(lo, np.int64)),
+                                       send(("sort_stride", k), stride), key, count)
         scan(count)
         scatter[blocks(m), THREADS](key, count, start, perm)
         order_cells[blocks(total), THREADS](count, start, perm)

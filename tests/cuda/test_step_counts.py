@@ -1,7 +1,10 @@
 """What an ordinary CUDA step asks of the host (geompm/bench/cuda_counts.py, benchmarks/device/count_launches.py),
 counted under numba-cuda's simulator in a subprocess: the count itself (a known kernel launch, copies each way)
 and, on the 2D bench scene and a softening scene, each step taken as `geompm run` takes it (time step, step,
-health and domain checks), that a step reads exactly one block of numbers from the device and sends nothing to it.
+health and domain checks), that a step reads exactly one block of numbers from the device and sends nothing to it,
+also where the particles are sorted on the device every step (the sort takes its cell ranges from the last step's
+bounds and leaves the host's own arrays to be put in order when the host next reads them; before, a sort read its
+ranges and sent its sizes: 6 blocking copies more a step).
 Before (50c40d9): 19 and 17 copies to the host and 19 and 17 to the device per step (the health and domain
 checks brought the whole particle state to the host, and the next step sent it back; each stage's accumulator
 and each reduction was one more blocking copy).  Now one copy to the host (the step's tally,
@@ -59,11 +62,11 @@ def test_the_counter_sees_launches_copies_and_synchronisations():
 
 def test_an_ordinary_step_keeps_the_particles_on_the_device():
     r = subprocess.run([sys.executable, "benchmarks/device/count_launches.py", "--steps", "2", "dp2d",
-                        "drucker_prager_softening_2d"], env=SIM, capture_output=True, text=True, cwd=ROOT,
-                       timeout=600)
+                        "drucker_prager_softening_2d", "drucker_prager_cylinder_sorted"], env=SIM, capture_output=True,
+                       text=True, cwd=ROOT, timeout=600)
     assert r.returncode == 0, r.stderr[-2000:]
     rows = {j["scene"]: j for j in (json.loads(line) for line in r.stdout.splitlines() if line.startswith("{"))}
-    assert set(rows) == {"dp2d", "drucker_prager_softening_2d"}
+    assert set(rows) == {"dp2d", "drucker_prager_softening_2d", "drucker_prager_cylinder_sorted"}
     for name, row in rows.items():
         # one blocking copy a step (the tally), nothing sent: no whole-state copy (18 arrays each way before)
         assert row["d2h"] == 1 and row["blocking"] == 1 and row["h2d"] == 0, (name, row)
