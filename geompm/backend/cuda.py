@@ -25,8 +25,10 @@ few numbers that may change between steps) goes to the device when its
 values change; its ``aux`` table (an obstacle's signed-distance lattice, a
 DEM) once, and again only when the stage hands a different array.
 
-The spatial sort runs on the device (backend/cuda_sort.py): only its
-permutation comes to the host, for the host-only arrays.
+The spatial sort runs on the device (backend/cuda_sort.py), each block's
+cell range taken from the step-end bounds; its permutations are composed on
+the device and reach the host, for the host-only arrays, when it next reads
+the state.
 
 Not built yet: kernels cached on disk (numba-cuda's cache needs a device to key on; docs/performance.md),
 and a measurement on a GPU.
