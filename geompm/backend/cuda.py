@@ -453,7 +453,8 @@ class CudaBackend(Backend):
             finite = e > s and np.isfinite(total).all() and np.isfinite(lo).all() and np.isfinite(hi).all()
             block_cells.append((np.floor((lo - spec.origin) * (1.0 / spec.h)).astype(np.int64),
                                 np.floor((hi - spec.origin) * (1.0 / spec.h)).astype(np.int64)) if finite else None)
-        return {"values": values, "block_cells": block_cells, "lo": -rows[:, 0:d].max(axis=0), "hi": rows[:, 3:3 + d].max(axis=0),
+        return {"values": values, "block_cells": block_cells,
+                "lo": -rows[:, 0:d].max(axis=0), "hi": rows[:, 3:3 + d].max(axis=0),
                 "sum": rows[:, 6:6 + d].sum(axis=0), "speed_density": speed_density,
                 "health": (float(rows[:, 12].sum()), float(rows[:, 13].sum()), float(rows[:, 14].sum()))}
 
@@ -468,8 +469,8 @@ class CudaBackend(Backend):
         return end["health"] if end is not None else super().health_sums(gravity)
 
     def particles_outside(self, lo, hi) -> int:
-        """None outside where the step-end bounds lie inside [lo, hi] (and every coordinate is finite); else
-        counted on the host."""
+        """0 where the step-end bounds lie inside [lo, hi] and every coordinate is finite; else counted on the
+        host."""
         end = self._ended()
         if end is not None and np.isfinite(end["sum"]).all() and (end["lo"] >= lo).all() and (end["hi"] <= hi).all():
             return 0

@@ -23,8 +23,8 @@
   the series (kinetic energy, obstacle forces, the guard's deepest penetration, and the health check's
   sums: non-finite count, kinetic energy, energy released by gravity) within 1e-9 of the stage's largest
   value, read after the first and the last step only, so that the last step's time step, grid window and
-  health sums come from the device's step-end tally (backend/cuda_tally.py) rather than from the host; the scenes must move and the obstacles must carry load, so that the
-  comparison is not between two zeros.
+  health sums come from the device's step-end tally (backend/cuda_tally.py) rather than from the host;
+  the scenes must move and the obstacles must carry load, so that the comparison is not between two zeros.
 - Refusals before any work, naming the JSON path: numba-cuda not installed, no GPU (and no
   simulator), a plugin that does not declare the cuda backend.
 """
