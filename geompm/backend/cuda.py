@@ -158,19 +158,8 @@ class CudaBackend(Backend):
         return self.buffers.view(lo, nloc)
 
     def _cells(self):
-        spec = self.scene.grid
-        end = self._ended()
-        if end is not None:
-            return cells_of_bounds(end["lo"], end["hi"], end["sum"], spec.origin, 1.0 / spec.h)
-        dev, st = self._device(), self.state
-        d = spec.dim
-        out = np.empty((3, d))
-        out[0], out[1], out[2] = np.inf, -np.inf, 0.0
-        red = cuda.to_device(out)
-        if st.n:
-            K.bounds[K.blocks(st.n), K.THREADS](dev["p_x"], red)
-        r = red.copy_to_host()
-        return cells_of_bounds(r[0], r[1], r[2], spec.origin, 1.0 / spec.h)
+        spec, end = self.scene.grid, self._end_now()
+        return cells_of_bounds(end["lo"], end["hi"], end["sum"], spec.origin, 1.0 / spec.h)
 
     def particle_cells(self):
         return self._cells() if self.state.n else None
@@ -235,19 +224,9 @@ class CudaBackend(Backend):
         self.max_rate, self._rate_due = None, True  # read at the step's end (settle)
 
     def dt_parts(self):
-        self._settle_if_due()
         sc, st = self.scene, self.state
         nb = len(st.blocks)
-        end = self._ended()
-        if end is not None:
-            r = end["speed_density"]
-        else:
-            dev = self._device()
-            red = cuda.to_device(np.full(1 + 2 * nb, -np.inf))
-            for k, (s, e) in enumerate(st.blocks):
-                if e > s:
-                    K.speed_and_density[K.blocks(e - s), K.THREADS](dev["p_v"], dev["p_rho"], s, e, k, red)
-            r = red.copy_to_host()
+        r = self._end_now()["speed_density"]
         laws = [0.0] * nb
         for k, (mat, (s, e)) in enumerate(zip(sc.materials, st.blocks)):
             if e > s:
@@ -270,10 +249,9 @@ class CudaBackend(Backend):
         st = self.state
         if not st.n:
             return
-        end = self._ended()  # the blocks' cell ranges from the step-end bounds, where they hold: no copy
+        cells = self._end_now()["block_cells"]  # each block's cell range from the step-end bounds: no copy
         dev = self._device()
-        perm = cuda_sort.cell_order(dev["p_x"], self._origin, self.scene.grid.h, st.blocks,
-                                    None if end is None else end["block_cells"], self._small)
+        perm = cuda_sort.cell_order(dev["p_x"], self._origin, self.scene.grid.h, st.blocks, cells, self._small)
         for k in self.device_arrays:
             dev[k] = cuda_sort.gather(dev[k], perm)
         self._dev_state = [cuda_sort.gather(sv, perm[s:e], s) for sv, (s, e) in zip(self._dev_state, st.blocks)]
@@ -402,25 +380,26 @@ class CudaBackend(Backend):
         """Hand the tally's ``where`` slots to ``reduced`` (a stage's ``*_reduced``) when the step settles."""
         self._handed.append((reduced, where, declared))
 
-    def _ended(self):
-        """settle's step-end reductions if nothing has changed the particles since, else None."""
+    def _end_now(self) -> dict:
+        """The step-end reductions (``_end_values``): the last ``settle``'s if nothing has changed the particles
+        since, else taken now (a settle that sends the host's arrays first where they are newer)."""
         end = self._end
-        return end[1] if end is not None and end[0] == self._moved and not self._on_host else None
+        if end is None or end[0] != self._moved or self._on_host:
+            self.settle(now=True)
+            end = self._end
+        return end[1]
 
-    def _settle_if_due(self) -> None:
-        if self._handed or self._rate_due:
-            self.settle()
-
-    def settle(self) -> None:
+    def settle(self, now: bool = False) -> None:
         """One blocking copy: this step's stage accumulators and largest |L_ii|, and the step-end reductions the
         next step's time step, grid window, health and domain checks read (cuda_kernels.step_end, one launch
         per material block), all in the tally; then the stages' ``*_reduced`` in pass order, and the tally
-        reset for the next step."""
+        reset for the next step.  At a step's end the step-end reductions are skipped where the host holds the
+        particles (it may change them before the next step); ``now`` takes them all the same (``_end_now``)."""
         st = self.state
         nb = len(st.blocks)
-        ended = not self._on_host and st.n > 0
+        ended = now or not self._on_host
         if ended:
-            dev = self._dev
+            dev = self._device()
             for k, (s, e) in enumerate(st.blocks):
                 row = self.tally.slots(("end", k), K.END_START)
                 if e > s:
@@ -459,20 +438,16 @@ class CudaBackend(Backend):
                 "health": (float(rows[:, 12].sum()), float(rows[:, 13].sum()), float(rows[:, 14].sum()))}
 
     def ended_slots(self, key):
-        """The values of the tally slots ``key`` that the last ``settle`` read (a scheme's ``end_reductions``), or
-        None where the particles have changed since or the slots were not filled then."""
-        end, where = self._ended(), self.tally.where(key)
-        return None if end is None or where is None or where.stop > end["values"].shape[0] else end["values"][where]
+        """The values of the tally slots ``key`` (a scheme's ``end_reductions``) of the step-end reductions."""
+        return self._end_now()["values"][self.tally.where(key)]
 
     def health_sums(self, gravity):
-        end = self._ended()
-        return end["health"] if end is not None else super().health_sums(gravity)
+        return self._end_now()["health"]
 
     def particles_outside(self, lo, hi) -> int:
         """0 where the step-end bounds lie inside [lo, hi] and every coordinate is finite; else counted on the
         host."""
-        end = self._ended()
-        if end is not None and np.isfinite(end["sum"]).all() and (end["lo"] >= lo).all() and (end["hi"] <= hi).all():
+        end = self._end_now()
+        if np.isfinite(end["sum"]).all() and (end["lo"] >= lo).all() and (end["hi"] <= hi).all():
             return 0
         return super().particles_outside(lo, hi)
-

@@ -1,5 +1,5 @@
 """The CUDA backend's own kernels (numba-cuda): P2G by atomics, the grid update, G2P fused with the
-volume update, and the reductions the time step and the grid window need.
+volume update, and the step-end reduction the time step, the grid window and the health checks read.
 
 One thread per particle (P2G, G2P) or per node (grid update).  The arithmetic
 is that of the dimension-generic reference (tests/support/reference_transfer.py) and
@@ -351,36 +351,6 @@ def momentum_to_velocity(g_mass, g_mom, mass_eps, g_vel):
     m = g_mass[i]
     for a in range(g_mom.shape[1]):
         g_vel[i, a] = g_mom[i, a] / m if m > mass_eps else 0.0
-
-
-@cuda.jit
-def bounds(p_x, out):
-    """out[0, a] = min x_a, out[1, a] = max x_a, out[2, a] = sum x_a (a NaN or Inf anywhere shows in the
-    sum); out must start at (+inf, -inf, 0)."""
-    p = cuda.grid(1)
-    if p >= p_x.shape[0]:
-        return
-    for a in range(p_x.shape[1]):
-        x = p_x[p, a]
-        cuda.atomic.min(out, (0, a), x)
-        cuda.atomic.max(out, (1, a), x)
-        cuda.atomic.add(out, (2, a), x)
-
-
-@cuda.jit
-def speed_and_density(p_v, p_rho, start, end, slot, out):
-    """For particles start..end-1 (a material block): out[0] = max |v_p| over every block,
-    out[1 + 2 slot] = -min rho, out[2 + 2 slot] = max rho (minima as negated maxima: one atomic)."""
-    q = cuda.grid(1)
-    p = start + q
-    if p >= end:
-        return
-    v2 = 0.0
-    for a in range(p_v.shape[1]):
-        v2 += p_v[p, a] * p_v[p, a]
-    cuda.atomic.max(out, 0, math.sqrt(v2))
-    cuda.atomic.max(out, 1 + 2 * slot, -p_rho[p])
-    cuda.atomic.max(out, 2 + 2 * slot, p_rho[p])
 
 
 #: what ``step_end`` reduces per material block, in its row: the minima of x (negated: maxima), the maxima of x,

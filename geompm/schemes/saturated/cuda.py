@@ -160,17 +160,14 @@ class SaturatedCuda(SaturatedPasses):
             smooth_scatter[K.blocks(n), K.THREADS](be.S, P.p_x, p_val, P.p_drained, P.p_vol, be._origin, g.h,
                                                    g.kind, lo, nloc, self.g_vp[:nn])
 
-    def _speed_terms(self, k, s, e, out) -> None:
-        dev = self.be._device()
-        speed_terms[K.blocks(e - s), K.THREADS](dev["p_v"], dev["p_vw"], dev["p_n"], dev["p_rho"], dev["p_sat"],
-                                                self.table[k], s, e, out)
-
     def end_reductions(self, backend) -> None:
         """The next step's speed terms of each material block into the backend's tally (read with the step's end)."""
+        dev = backend._device()
         for k, (s, e) in enumerate(backend.state.blocks):
             out = backend.tally.slots(("saturated_speed", k), SPEED_START)
             if e > s:
-                self._speed_terms(k, s, e, out)
+                speed_terms[K.blocks(e - s), K.THREADS](dev["p_v"], dev["p_vw"], dev["p_n"], dev["p_rho"],
+                                                        dev["p_sat"], self.table[k], s, e, out)
 
     def wave_speed(self, law_speeds) -> float:
         """The largest of the undrained, water and skeleton wave speeds (schemes/saturated/speeds.py) from one
@@ -181,12 +178,7 @@ class SaturatedCuda(SaturatedPasses):
         for k, (s, e) in enumerate(st.blocks):
             if e <= s:
                 continue
-            terms = be.ended_slots(("saturated_speed", k))
-            if terms is None:  # the particles changed since the step's end (or before the first step)
-                out = cuda.to_device(np.array(SPEED_START))
-                self._speed_terms(k, s, e, out)
-                terms = out.copy_to_host()
-            n_min, rho_d, rho_sat, v2 = terms
+            n_min, rho_d, rho_sat, v2 = be.ended_slots(("saturated_speed", k))
             rows[k] = (law_speeds[k], -n_min, rho_d, -rho_sat, math.sqrt(v2))
         rows = np.asarray(be.domain.comm.max(rows.ravel())).reshape(rows.shape)
         c = speeds.combined_speeds(rows, pw, self.scene.material_names,
