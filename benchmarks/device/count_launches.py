@@ -3,7 +3,7 @@ handed to kernels (implicit round trips), copies each way, synchronisations, per
 (coarsened for the simulator), the softening scenes, the saturated one and a scene that sorts its particles every
 step (an obstacle with its guard).
 
-    NUMBA_ENABLE_CUDASIM=1 python benchmarks/device/count_launches.py [--steps 3] [--cells 8] [SCENE ...]
+    NUMBA_ENABLE_CUDASIM=1 python benchmarks/device/count_launches.py [--steps 3] [--cells 8] [--held N] [SCENE ...]
     python benchmarks/device/count_launches.py ...      (on a GPU: the same counts, the real host time)
 
 Each step is taken as `geompm run` takes it: the time step, the step, the health and domain checks.  Prints one
@@ -39,10 +39,12 @@ def main(argv=None) -> int:
     ap.add_argument("--steps", type=int, default=3)
     ap.add_argument("--cells", type=int, default=8, help="cells per side of the bench scenes (default 8)")
     ap.add_argument("--sites", action="store_true", help="also list each copy's and launch's calling line")
+    ap.add_argument("--held", type=int, default=0, help="solver.held_step.steps: hold the step for up to this "
+                    "many steps (engine/held_step.py); default: every step the stable one")
     args = ap.parse_args(argv)
     from cuda_parity import scenes as parity_scenes
 
-    from geompm.api import scene_from_dict, scene_from_file
+    from geompm.api import scene_from_dict
     from geompm.bench.cuda_counts import KINDS, step_counts
     from geompm.engine.scheduler import Simulation
 
@@ -52,22 +54,27 @@ def main(argv=None) -> int:
               **{k: tiny[k] for k in ("mohr_coulomb_softening_trigger", "drucker_prager_softening_2d",
                                       "drucker_prager_cylinder_sorted")}}
     names = args.scenes or list(chosen)
-    print(f"{'scene':<32}{'particles':>10}" + "".join(f"{k:>10}" for k in KINDS) + f"{'wall ms':>10}{'host ms':>10}")
+    print(f"{'scene':<32}{'particles':>10}" + "".join(f"{k:>10}" for k in KINDS) + f"{'wall ms':>10}{'host ms':>10}"
+          + f"{'steps':>7}{'batches':>8}")
     for name in names:
         spec = chosen[name]
         if isinstance(spec, tuple):
-            scene = scene_from_file(spec[0], spec[1] + ["solver.backend=cuda"])
+            raw = json.loads(Path(spec[0]).read_text())
+            base, sets = spec[0].parent, spec[1]
         else:
             raw = json.loads(json.dumps(spec))
             raw.pop("parity_place", None)  # the parity run's own key (tests/cuda/cuda_parity.py)
-            raw.setdefault("solver", {})["backend"] = "cuda"
-            scene = scene_from_dict(raw, folder)
+            base, sets = folder, []
+        raw.setdefault("solver", {})["backend"] = "cuda"
+        if args.held:
+            raw["solver"]["held_step"] = {"steps": args.held}
+        scene = scene_from_dict(raw, base, sets)
         sim = Simulation(scene)
         sim.distribute()
         sites = Counter() if args.sites else None
         r = step_counts(sim, args.steps, sites)
         print(f"{name:<32}{scene.state.n:>10}" + "".join(f"{r[k]:>10.1f}" for k in KINDS)
-              + f"{1e3 * r['wall_per_step']:>10.1f}{1e3 * r['host_per_step']:>10.2f}")
+              + f"{1e3 * r['wall_per_step']:>10.1f}{1e3 * r['host_per_step']:>10.2f}{r['steps']:>7}{r['batches']:>8}")
         print(json.dumps({"scene": name, "particles": scene.state.n, **r}), flush=True)
         for (what, where), k in sorted((sites or {}).items(), key=lambda kv: -kv[1]):
             print(f"    {k / args.steps:6.1f} per step  {what:<14} {where}")

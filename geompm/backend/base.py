@@ -14,6 +14,9 @@ differently and add their own passes, ``scheme_passes``):
                                      the largest |L_ii| of the step, for the strain-increment limit
 (the next step's CFL limit runs each law's wave-speed loop: backend/timestep.py)
 
+A held batch (engine/held_step.py) wraps steps in ``hold(box, cells)``, ``gate(i)`` before each step after the
+first, and ``release(launched)``, which says how many were taken.
+
 The transfer scheme (PIC/APIC/FLIP/MLS) and the stencil support are fixed when
 the backend is made and reach the kernels as compile-time tags
 (kernels/stencil.py); the update order (USL/MUSL) is the scheduler's choice of
@@ -23,6 +26,8 @@ scheme's (schemes/), fixed before the run.
 from __future__ import annotations
 
 from typing import ClassVar
+
+import numpy as np
 
 from geompm.parallel.whole import WHOLE
 
@@ -105,12 +110,44 @@ class Backend:
         return int(outside_grid(self.host_state().p_x, lo, hi).sum())
 
     def window(self):
-        """The grid window over every particle's stencil (mpm/grid.py); SimulationError naming a particle
-        that left the grid."""
+        """The grid window over every particle's stencil (mpm/grid.py), or during a held batch over the cells
+        it holds (``hold``); SimulationError naming a particle that left the grid."""
         from geompm.mpm.grid import window_extent
 
-        return self.window_at(*window_extent(self.scene.grid, self.particle_cells(),
-                                             lambda: self.host_state().p_x))
+        cells = self._held[1] if self._held is not None else self.particle_cells()
+        return self.window_at(*window_extent(self.scene.grid, cells, lambda: self.host_state().p_x))
+
+    # -- the held step (engine/held_step.py) ---------------------------------------------------------------
+    #: during a held batch: (its box, the cells its window covers); None otherwise
+    _held = None
+
+    def end_rows(self) -> np.ndarray:
+        """The step-end rows of this process's particles, flat (material blocks * END_ROW: kernels/step_end.py);
+        a device backend reads its own reduction."""
+        from geompm.kernels.step_end import end_rows
+
+        return end_rows(self.host_state(), self.scene.gravity)
+
+    def hold(self, box, cells) -> None:
+        """Begin a held batch: its steps are checked against ``box`` (held_step.limits) and its grid window
+        covers ``cells`` (2, d)."""
+        self._held = (box, cells)
+
+    def gate(self, i: int) -> bool:
+        """Before the batch's step ``i`` (from 1): whether it may be taken (held_step.fits on this step's start);
+        a device backend launches the test and answers True, its later kernels returning at once if it failed."""
+        from geompm.engine.held_step import fits
+        from geompm.kernels.reduce import max_rate
+
+        rate = self.max_rate if self.max_rate is not None else (max_rate(self.host_state().p_L) if self.state.n
+                                                                 else 0.0)
+        return bool(fits(self.end_rows(), rate, self._held[0]))
+
+    def release(self, launched: int) -> int:
+        """End the held batch of which ``launched`` steps were asked for: how many were taken (a device backend
+        hands the stages the reductions of those, in order)."""
+        self._held = None
+        return launched
 
     def joined(self, rows, slots: int):
         """A pass's accumulator rows with every rank's stacked (comm.rows); a stage that declares no

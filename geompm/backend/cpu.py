@@ -75,6 +75,8 @@ class CpuBackend(Backend):
         return self.state.nbytes() + self.buffers.nbytes() + self.scheme_passes.nbytes()
 
     def window(self):
+        if self._held is not None:  # a held batch's window (Backend.window)
+            return super().window()
         return self.buffers.window(self.state.p_x)
 
     def particle_cells(self):

@@ -113,6 +113,8 @@ class CudaBackend(Backend):
         self._on_host = True  # the host arrays are current; the next kernel uploads them
         #: every reduction of a step, read by the host once at its end (settle; backend/cuda_tally.py)
         self.tally = DeviceTally()
+        self.tally.reserve("halt", [0.0])  # set by a held batch's check: every later kernel returns at once
+        self._step = 0  # the step's place in a held batch (engine/held_step.py; 0 outside one): its tally slots
         self._handed: list = []  # (callback, tally slice, slots) of this step's stage passes, in pass order
         self._passes: dict = {}  # (stage, pass kind) -> passes so far this step: each pass its own slots
         self._rate_due = False  # a stress update wrote its largest |L_ii| into the tally
@@ -154,7 +156,8 @@ class CudaBackend(Backend):
     # -- the step ---------------------------------------------------------------------------------------
     def window(self):
         spec = self.scene.grid
-        lo, nloc = window_extent(spec, self._cells(), lambda: self.host_state().p_x)
+        cells = self._held[1] if self._held is not None else self._cells()  # a held batch's window
+        lo, nloc = window_extent(spec, cells, lambda: self.host_state().p_x)
         return self.buffers.view(lo, nloc)
 
     def _cells(self):
@@ -171,24 +174,24 @@ class CudaBackend(Backend):
         dev, st, g = self._device(), self.state, self.scene.grid
         nn = view.g_mass.shape[0]
         force = view.g_force if self.split_force else view.g_mom
-        K.zero_grid[K.blocks(nn), K.THREADS](view.g_mass, view.g_mom, force, self.split_force)
+        K.zero_grid[K.blocks(nn), K.THREADS](view.g_mass, view.g_mom, force, self.split_force, self.halt())
         if st.n:
             kern = K.p2g_tiled if self.scene.p2g == "tiled" else K.p2g
             kern[K.blocks(st.n), K.THREADS](
                 self.S, self.mode, dev["p_x"], dev["p_v"], dev["p_C"], dev["p_mass"], dev["p_vol"], dev["p_stress"],
                 self._origin, g.h, g.kind, self._small("lo", view.lo), self._small("nloc", view.nloc), self.split_force,
-                f_scale, self.scene.apic_dinv, view.g_mass, view.g_mom, force)
+                f_scale, self.scene.apic_dinv, view.g_mass, view.g_mom, force, self.halt())
 
     def grid_update(self, view, dt: float) -> None:
         nn = view.g_mass.shape[0]
         split = self.split_force
         K.grid_update[K.blocks(nn), K.THREADS](
             view.g_mass, view.g_mom, view.g_force if split else view.g_mom, self._gravity, dt, self.mass_eps, split,
-            view.g_vel, view.g_vel_old if split else view.g_vel)
+            view.g_vel, view.g_vel_old if split else view.g_vel, self.halt())
 
     def remap_velocity(self, view) -> None:
         nn = view.g_mass.shape[0]
-        K.momentum_to_velocity[K.blocks(nn), K.THREADS](view.g_mass, view.g_mom, self.mass_eps, view.g_vel)
+        K.momentum_to_velocity[K.blocks(nn), K.THREADS](view.g_mass, view.g_mom, self.mass_eps, view.g_vel, self.halt())
 
     def g2p(self, view, dt: float, *, set_velocity: bool, move: bool, gradient: bool) -> None:
         dev, st, sc, g = self._device(), self.state, self.scene, self.scene.grid
@@ -199,7 +202,7 @@ class CudaBackend(Backend):
         K.g2p[K.blocks(st.n), K.THREADS](
             self.S, self.mode, dev["p_x"], dev["p_v"], dev["p_C"], dev["p_L"], dev["p_vol"], dev["p_rho"],
             dev["p_mass"], view.g_vel, g_vel_old, self._origin, g.h, g.kind, self._small("lo", view.lo),
-            self._small("nloc", view.nloc), dt, ratio, sc.apic_dinv, set_velocity, move, gradient)
+            self._small("nloc", view.nloc), dt, ratio, sc.apic_dinv, set_velocity, move, gradient, self.halt())
         self._moved += 1
 
     def material_parameters_changed(self) -> None:
@@ -207,7 +210,7 @@ class CudaBackend(Backend):
 
     def update_stress(self, dt: float) -> None:
         dev = self._device()
-        rate = self.tally.slots("rate", [0.0])
+        rate, halt = self.tally.slots(("rate", self._step), [0.0]), self.halt()
         self._moved += 1
         for k, (law, prm, (s, e), sv) in enumerate(zip(self._laws, self._prm, self.state.blocks, self._dev_state)):
             if e <= s:
@@ -215,12 +218,12 @@ class CudaBackend(Backend):
             args = (prm, dt, dev["p_L"][s:e], dev["p_rho"][s:e], dev["p_stress"][s:e], sv)
             relaxed = self._relaxed[k]
             if relaxed is None:
-                law[K.blocks(e - s), K.THREADS](*args, rate)
+                law[K.blocks(e - s), K.THREADS](*args, rate, halt)
                 continue
             old = self._old.get(k)
             if old is None or old.shape != (e - s, 6 + sv.shape[1]):
                 old = self._old[k] = cuda.device_array((e - s, 6 + sv.shape[1]), np.float64)
-            relaxed[K.blocks(e - s), K.THREADS](*args, old, dt / self.scene.viscoplastic_time, rate)
+            relaxed[K.blocks(e - s), K.THREADS](*args, old, dt / self.scene.viscoplastic_time, rate, halt)
         self.max_rate, self._rate_due = None, True  # read at the step's end (settle)
 
     def dt_parts(self):
@@ -289,7 +292,7 @@ class CudaBackend(Backend):
             kern = cuda_loops.merge_kernel(cls.node_image)
             fold = view.g_vel_old is not None
             kern[K.blocks(nn), K.THREADS](self._small((id(stage), "merge"), args[0]), lo, nloc, view.g_mass, view.g_vel,
-                                          view.g_vel_old if fold else view.g_vel, fold)
+                                          view.g_vel_old if fold else view.g_vel, fold, self.halt())
             return
         prm, aux = args
         d = self.scene.dim
@@ -316,7 +319,7 @@ class CudaBackend(Backend):
                 self._small((id(stage), "grid"), prm), self._table(stage, "grid", aux), dt,
                 self._origin, self.scene.grid.h, lo, nloc, self._small((id(stage), "b0", part), b0.astype(np.int64)),
                 self._small((id(stage), "bn", part), bn.astype(np.int64)), total, view.g_mass, view.g_vel, v_old,
-                f, pore, wet, out if counted else spill)
+                f, pore, wet, out if counted else spill, self.halt())
         self._hand(lambda rows: stage.grid_reduced(rows, dt, time, remap), where, stage.node_reduction)
 
     def particle_stages(self, stages, dt: float, time: float) -> None:
@@ -363,7 +366,7 @@ class CudaBackend(Backend):
             s, e = st.blocks[k]
             if e > s:
                 kern[K.blocks(e - s), K.THREADS](prms, aux, dt, k, s, e, dev["p_x"], dev["p_x0"], dev["p_v"],
-                                                 dev["p_C"], dev["p_mass"], dev["p_stress"], outs)
+                                                 dev["p_C"], dev["p_mass"], dev["p_stress"], outs, self.halt())
         for g, (stage, _) in enumerate(run):
             at = slice(where.start + g * slots, where.start + (g + 1) * slots)
             self._hand(lambda rows, stage=stage: stage.particle_reduced(rows, dt, time), at, stage.particle_reduction)
@@ -378,7 +381,7 @@ class CudaBackend(Backend):
 
     def _hand(self, reduced, where: slice, declared: int) -> None:
         """Hand the tally's ``where`` slots to ``reduced`` (a stage's ``*_reduced``) when the step settles."""
-        self._handed.append((reduced, where, declared))
+        self._handed.append((reduced, where, declared, self._step))
 
     def _end_now(self) -> dict:
         """The step-end reductions (``_end_values``): the last ``settle``'s if nothing has changed the particles
@@ -389,39 +392,86 @@ class CudaBackend(Backend):
             end = self._end
         return end[1]
 
+    def halt(self):
+        """The tally's halt slot (the device view every kernel of a step is handed: engine/held_step.py)."""
+        return self.tally.slots("halt", [0.0])
+
+    def _step_end(self, step: int) -> None:
+        """The step-end reductions of the particles into the tally slots of ``step`` (one launch per block)."""
+        st = self.state
+        dev = self._device()
+        rows = self.tally.slots(("end", step), np.tile(K.END_START, len(st.blocks)))
+        for k, (s, e) in enumerate(st.blocks):
+            if e > s:
+                K.step_end[K.blocks(e - s), K.THREADS](dev["p_x"], dev["p_x0"], dev["p_v"], dev["p_rho"],
+                                                       dev["p_stress"], dev["p_mass"], self._gravity, s, e,
+                                                       rows[k * K.END_ROW:(k + 1) * K.END_ROW], self.halt())
+        self.scheme_passes.end_reductions(self)
+
     def settle(self, now: bool = False) -> None:
         """One blocking copy: this step's stage accumulators and largest |L_ii|, and the step-end reductions the
         next step's time step, grid window, health and domain checks read (cuda_kernels.step_end, one launch
         per material block), all in the tally; then the stages' ``*_reduced`` in pass order, and the tally
         reset for the next step.  At a step's end the step-end reductions are skipped where the host holds the
-        particles (it may change them before the next step); ``now`` takes them all the same (``_end_now``)."""
-        st = self.state
-        nb = len(st.blocks)
+        particles (it may change them before the next step); ``now`` takes them all the same (``_end_now``).
+        In a held batch a step's end launches its step-end reductions and reads nothing (``release`` does)."""
+        if self._held is not None and not now:
+            self._step_end(self._step)
+            return
         ended = now or not self._on_host
         if ended:
-            dev = self._device()
-            for k, (s, e) in enumerate(st.blocks):
-                row = self.tally.slots(("end", k), K.END_START)
-                if e > s:
-                    K.step_end[K.blocks(e - s), K.THREADS](dev["p_x"], dev["p_x0"], dev["p_v"], dev["p_rho"],
-                                                           dev["p_stress"], dev["p_mass"], self._gravity, s, e, row)
-            self.scheme_passes.end_reductions(self)
+            self._step_end(0)
         if not (ended or self._handed or self._rate_due):
             return
+        self._read(1, ended)
+
+    def _read(self, launched: int, ended: bool) -> int:
+        """The tally to the host and reset: how many of the ``launched`` steps since the last read were taken (all
+        but those after a held batch's failed check), their stages' reductions handed in order, the largest
+        |L_ii| and (``ended``) the step-end values of the last of them kept."""
         values = self.tally.read()
         self.tally.reset()
+        steps = int(values[self.tally.where("halt")][0]) or launched
         handed, self._handed, self._passes = self._handed, [], {}
+        last = steps - 1
         if self._rate_due:
-            self.max_rate, self._rate_due = float(values[self.tally.reserve("rate", ())][0]), False
+            self.max_rate, self._rate_due = float(values[self.tally.reserve(("rate", last), ())][0]), False
         if ended:
-            self._end = (self._moved, self._end_values(values, nb))
-        for reduced, where, declared in handed:
-            reduced(self.joined(values[where].reshape(1, -1), declared))
+            self._end = (self._moved, self._end_values(values, len(self.state.blocks), last))
+        for reduced, where, declared, step in handed:
+            if step < steps:
+                reduced(self.joined(values[where].reshape(1, -1), declared))
+        return steps
 
-    def _end_values(self, values, nb: int) -> dict:
-        """The step-end rows (cuda_kernels.END_ROW per material block) combined over the blocks."""
+    # -- the held step (engine/held_step.py) ----------------------------------------------------------------
+    def end_rows(self):
+        return self._end_now()["rows"]
+
+    def hold(self, box, cells) -> None:
+        super().hold(box, cells)
+        self._step = 0
+
+    def gate(self, i: int) -> bool:
+        """Launch the check of step ``i`` (cuda_kernels.held_gate) on the rows step ``i - 1`` left: the answer
+        stays on the device, where it stops the batch's later kernels."""
+        self._step = i
+        rows = self.tally.slots(("end", i - 1), ())
+        rate = self.tally.slots(("rate", i - 1), [0.0])
+        K.held_gate[1, 1](rows, rate, self._small("held", self._held[0]), self.halt(), float(i))
+        return True
+
+    def release(self, launched: int) -> int:
+        """One blocking copy for the batch: how many of its ``launched`` steps were taken (the halt slot), their
+        reductions handed to the stages in order, the last one's step-end values kept."""
+        super().release(launched)
+        self._step = 0
+        return self._read(launched, True)
+
+    def _end_values(self, values, nb: int, step: int) -> dict:
+        """The step-end rows of ``step`` (kernels/step_end.END_ROW per material block) combined over the blocks."""
         d = self.scene.dim
-        rows = np.array([values[self.tally.reserve(("end", k), ())] for k in range(nb)])
+        flat = values[self.tally.reserve(("end", step), ())]
+        rows = flat.reshape(nb, K.END_ROW)
         speed_density = np.empty(1 + 2 * nb)
         speed_density[0] = rows[:, 9].max()
         speed_density[1::2], speed_density[2::2] = rows[:, 10], rows[:, 11]
@@ -432,7 +482,7 @@ class CudaBackend(Backend):
             finite = e > s and np.isfinite(total).all() and np.isfinite(lo).all() and np.isfinite(hi).all()
             block_cells.append((np.floor((lo - spec.origin) * (1.0 / spec.h)).astype(np.int64),
                                 np.floor((hi - spec.origin) * (1.0 / spec.h)).astype(np.int64)) if finite else None)
-        return {"values": values, "block_cells": block_cells,
+        return {"values": values, "rows": flat.copy(), "block_cells": block_cells,
                 "lo": -rows[:, 0:d].max(axis=0), "hi": rows[:, 3:3 + d].max(axis=0),
                 "sum": rows[:, 6:6 + d].sum(axis=0), "speed_density": speed_density,
                 "health": (float(rows[:, 12].sum()), float(rows[:, 13].sum()), float(rows[:, 14].sum()))}

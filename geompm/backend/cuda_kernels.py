@@ -23,7 +23,9 @@ import math
 
 from numba import cuda, float64, int64
 
+from geompm.engine.held_step import fits
 from geompm.kernels.shape import axis_stencil
+from geompm.kernels.step_end import END_MAXIMA, END_ROW, END_START  # noqa: F401  (the layout, named here)
 from geompm.kernels.stencil import APIC, FLIP, MLS
 from geompm.kernels.volume import update_volume
 from geompm.backend.cuda_loops import simulated, simulator_call
@@ -39,6 +41,7 @@ def blocks(n: int) -> int:
 #: the CPU kernels' own helpers, called from the kernels: numba-cuda compiles them as device functions on a
 #: GPU; the simulator gets them through backend/cuda_loops.simulator_call (array arguments unwrapped)
 _volume = simulator_call(update_volume) if simulated() else update_volume
+_fits = simulator_call(fits) if simulated() else fits
 
 
 @cuda.jit(device=True)
@@ -133,10 +136,12 @@ def _add_node(g_mass, g_mom, g_force, idx, val, d, split):
 
 @cuda.jit
 def p2g(S, mode, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc, split, f_scale, dinv,
-        g_mass, g_mom, g_force):
+        g_mass, g_mom, g_force, halt):
     """m_i += w m_p; (mv)_i += w m_p (v_p + C_p (x_i - x_p)); f_i -= f_scale V_p sigma_p grad w (MLS, mode 3:
     grad w ~ D^-1 w (x_i - x_p)); folded (not split): the force goes into the momentum.  One thread per
     particle, every entry added into the grid with a global atomic."""
+    if halt[0] != 0.0:  # a held batch ended before this step (engine/held_step.py)
+        return
     p = cuda.grid(1)
     if p >= p_x.shape[0]:
         return
@@ -165,12 +170,14 @@ _FAR = 1 << 62
 
 @cuda.jit
 def p2g_tiled(S, mode, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, lo, nloc, split, f_scale, dinv,
-              g_mass, g_mom, g_force):
+              g_mass, g_mom, g_force, halt):
     """p2g with a block-local accumulation: the block's particles (consecutive, so neighbours once sorted
     by cell) add into a float64 tile of shared memory over the nodes their stencils cover, and the tile
     is added into the grid once per node, so a node shared by the block's particles takes one global
     atomic instead of one per particle.  A block whose stencils span more than TILE nodes (particles
     not sorted, or a block across a row of cells) adds with global atomics, as p2g."""
+    if halt[0] != 0.0:  # a held batch ended before this step (engine/held_step.py)
+        return
     sh = cuda.shared.array((TILE, 7), float64)
     box = cuda.shared.array((2, 3), int64)
     t = cuda.threadIdx.x
@@ -246,10 +253,12 @@ def p2g_tiled(S, mode, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, 
 
 @cuda.jit
 def g2p(S, mode, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old, origin, h, kind, lo, nloc, dt,
-        flip_ratio, dinv, set_velocity, move, do_gradient):
+        flip_ratio, dinv, set_velocity, move, do_gradient, halt):
     """v_pic = sum w v_i; L = sum v_i (x) grad w (MLS: L = C); APIC/MLS C = sum w v_i (x_i - x_p)^T D^-1
     (linear APIC: C = L); FLIP: v = r (v + sum w (v_i - v_old_i)) + (1 - r) v_pic; x += dt v_pic;
     V <- V det(I + dt L), rho = m / V."""
+    if halt[0] != 0.0:  # a held batch ended before this step (engine/held_step.py)
+        return
     p = cuda.grid(1)
     if p >= p_x.shape[0]:
         return
@@ -309,7 +318,9 @@ def g2p(S, mode, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old, ori
 
 
 @cuda.jit
-def zero_grid(g_mass, g_mom, g_force, split):
+def zero_grid(g_mass, g_mom, g_force, split, halt):
+    if halt[0] != 0.0:  # a held batch ended before this step (engine/held_step.py)
+        return
     i = cuda.grid(1)
     if i >= g_mass.shape[0]:
         return
@@ -321,9 +332,11 @@ def zero_grid(g_mass, g_mom, g_force, split):
 
 
 @cuda.jit
-def grid_update(g_mass, g_mom, g_force, gravity, dt, mass_eps, split, g_vel, g_vel_old):
+def grid_update(g_mass, g_mom, g_force, gravity, dt, mass_eps, split, g_vel, g_vel_old, halt):
     """v_old = (mv)/m, v = v_old + dt (f/m + g) (split), or v = ((mv) + dt f)/m + dt g (folded);
     nodes at or below mass_eps get zero velocity (kernels/grid_update.py)."""
+    if halt[0] != 0.0:  # a held batch ended before this step (engine/held_step.py)
+        return
     i = cuda.grid(1)
     if i >= g_mass.shape[0]:
         return
@@ -343,8 +356,10 @@ def grid_update(g_mass, g_mom, g_force, gravity, dt, mass_eps, split, g_vel, g_v
 
 
 @cuda.jit
-def momentum_to_velocity(g_mass, g_mom, mass_eps, g_vel):
+def momentum_to_velocity(g_mass, g_mom, mass_eps, g_vel, halt):
     """MUSL re-map: v = (mv) / m."""
+    if halt[0] != 0.0:  # a held batch ended before this step (engine/held_step.py)
+        return
     i = cuda.grid(1)
     if i >= g_mass.shape[0]:
         return
@@ -353,14 +368,7 @@ def momentum_to_velocity(g_mass, g_mom, mass_eps, g_vel):
         g_vel[i, a] = g_mom[i, a] / m if m > mass_eps else 0.0
 
 
-#: what ``step_end`` reduces per material block, in its row: the minima of x (negated: maxima), the maxima of x,
-#: the sums of x (a NaN or Inf anywhere shows in them), the largest |v|, the smallest density (negated) and the
-#: largest, then the health sums (engine/health.health_sums): particles with a non-finite field, the kinetic
-#: energy and the energy gravity released
-END_ROW = 15
-END_MAXIMA = (0, 1, 2, 3, 4, 5, 9, 10, 11)
-#: a row's starting values (the maxima at -inf, the sums at 0)
-END_START = tuple(-math.inf if q in END_MAXIMA else 0.0 for q in range(END_ROW))
+#: what ``step_end`` reduces per material block, in its row: kernels/step_end.py (END_ROW, END_MAXIMA, END_START)
 
 
 @cuda.jit(device=True)
@@ -369,9 +377,11 @@ def _end_is_max(q):
 
 
 @cuda.jit
-def step_end(p_x, p_x0, p_v, p_rho, p_stress, p_mass, gravity, start, end, row):
+def step_end(p_x, p_x0, p_v, p_rho, p_stress, p_mass, gravity, start, end, row, halt):
     """One material block's END_ROW quantities over particles start..end-1, each thread block reduced in shared
     memory and added into ``row`` with one atomic per quantity (maxima by atomic max)."""
+    if halt[0] != 0.0:  # a held batch ended before this step (engine/held_step.py)
+        return
     t = cuda.threadIdx.x
     p = start + cuda.grid(1)
     acc = cuda.shared.array((THREADS, END_ROW), float64)
@@ -423,3 +433,13 @@ def step_end(p_x, p_x0, p_v, p_rho, p_stress, p_mass, gravity, start, end, row):
                 cuda.atomic.max(row, q, acc[0, q])
             else:
                 cuda.atomic.add(row, q, acc[0, q])
+
+
+@cuda.jit
+def held_gate(rows, rate, box, halt, i):
+    """Before step ``i`` of a held batch (engine/held_step.py), one thread: where no earlier step of the batch has
+    failed and the state the previous step left (its step-end ``rows`` and largest |L_ii| ``rate[0]``) is outside
+    ``box``, ``halt[0] = i``: every later kernel of the batch returns at once, and the host, when it reads the
+    tally, learns that the batch took ``i`` steps."""
+    if cuda.grid(1) == 0 and halt[0] == 0.0 and not _fits(rows, rate[0], box):
+        halt[0] = i

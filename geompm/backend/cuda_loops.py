@@ -9,6 +9,8 @@ a CUDA kernel, one thread per particle or node:
   compiles as a device function (with every ``@njit`` helper it calls), so
   the function must stay in the CUDA subset: no array creation, no
   ``np.linalg``, no Python objects;
+- every kernel but ``each_kernel`` (the saturated scheme's, which holds no step) returns at once where
+  ``halt[0]`` is set: a held batch that ended before its step (engine/held_step.py);
 - under numba-cuda's simulator (``NUMBA_ENABLE_CUDASIM=1``) a kernel runs as
   Python, and a CPU dispatcher cannot take the simulator's array wrappers:
   the kernel calls it through ``simulator_call``, which hands it the numpy
@@ -60,7 +62,9 @@ def _device(fn):
 
 LAW = '''
 @cuda.jit
-def stress_kernel(prm, dt, p_L, p_rho, p_stress, p_state, rate):
+def stress_kernel(prm, dt, p_L, p_rho, p_stress, p_state, rate, halt):
+    if halt[0] != 0.0:
+        return
     p = cuda.grid(1)
     if p >= p_L.shape[0]:
         return
@@ -72,7 +76,9 @@ def stress_kernel(prm, dt, p_L, p_rho, p_stress, p_state, rate):
 #: the law's stress kernel regularised by a relaxation time (kernels/viscoplastic.py; cpu_loops.RELAXED)
 RELAXED = '''
 @cuda.jit
-def relaxed_kernel(prm, dt, p_L, p_rho, p_stress, p_state, p_old, r, rate):
+def relaxed_kernel(prm, dt, p_L, p_rho, p_stress, p_state, p_old, r, rate, halt):
+    if halt[0] != 0.0:
+        return
     p = cuda.grid(1)
     if p >= p_L.shape[0]:
         return
@@ -86,7 +92,9 @@ def relaxed_kernel(prm, dt, p_L, p_rho, p_stress, p_state, p_old, r, rate):
 NODE = '''
 @cuda.jit
 def node_kernel(prm, aux, dt, origin, h, lo, nloc, b0, bn, total, g_mass, g_vel, g_vel_old, g_force, g_pore, wet,
-                out):
+                out, halt):
+    if halt[0] != 0.0:
+        return
     q = cuda.grid(1)
     if q >= total:
         return
@@ -116,7 +124,9 @@ def node_kernel(prm, aux, dt, origin, h, lo, nloc, b0, bn, total, g_mass, g_vel,
 #: its own particle, so this is the stages' passes one after the other)
 GROUP = '''
 @cuda.jit
-def group_kernel(prms, aux, dt, k, start, end, p_x, p_x0, p_v, p_C, p_mass, p_stress, outs):
+def group_kernel(prms, aux, dt, k, start, end, p_x, p_x0, p_v, p_C, p_mass, p_stress, outs, halt):
+    if halt[0] != 0.0:
+        return
     p = start + cuda.grid(1)
     if p >= end:
         return
@@ -138,7 +148,9 @@ def each_kernel(n, {args}):
 
 MERGE = '''
 @cuda.jit
-def merge_kernel(prm, lo, nloc, g_mass, g_vel, g_vel_old, fold_old):
+def merge_kernel(prm, lo, nloc, g_mass, g_vel, g_vel_old, fold_old, halt):
+    if halt[0] != 0.0:
+        return
     g = cuda.grid(1)
     if g < g_vel.shape[0]:
         merge_node(prm, lo, nloc, g_mass, g_vel, g_vel_old, fold_old, g)

@@ -111,27 +111,26 @@ def counting(sites: Counter | None = None):
 
 
 def step_counts(sim, steps: int, sites: Counter | None = None) -> dict:
-    """Per step, over ``steps`` steps of ``sim`` (a Simulation on the cuda backend) after one untimed step, each
-    step as `geompm run` takes it (the time step, the step, the health and domain checks: engine/runner.py):
-    each count of KINDS, the wall time [s] and the host's own time [s], the wall time less the time inside kernel
-    launches (under the simulator those run the kernels as Python; on a device a launch is asynchronous and the
-    difference is the host's work plus its waits at blocking copies); ``sites`` as in ``counting``."""
-    from geompm.engine.health import HealthCheck, check_domain
+    """Per step, over at least ``steps`` steps of ``sim`` (a Simulation on the cuda backend) after one untimed
+    step or held batch, the steps taken as `geompm run` takes them (engine/runner.Runner.advance: the time step,
+    the step or a held batch of them, the health and domain checks): each count of KINDS, the wall time [s] and
+    the host's own time [s], the wall time less the time inside kernel launches (under the simulator those run
+    the kernels as Python; on a device a launch is asynchronous and the difference is the host's work plus its
+    waits at blocking copies); the steps and held batches counted; ``sites`` as in ``counting``."""
+    import math
 
-    health = HealthCheck(sim.scene, sim.domain.comm)
+    from geompm.engine.runner import Runner
 
-    def step():
-        dt = sim.stable_dt()
-        health.before_step(sim, dt)
-        sim.step(dt)
-        health.after_step(sim)
-        check_domain(sim, False)
-
-    step()  # the first step allocates and uploads
+    runner = Runner(sim, None, [], progress=False)
+    runner.start()
+    runner.advance(math.inf)  # the first step allocates and uploads
+    first, batches = sim.step_count, runner.held_batches
     with counting(sites) as counts:
         t0 = time.perf_counter()
-        for _ in range(steps):
-            step()
+        while sim.step_count - first < steps:
+            runner.advance(math.inf)
         wall = time.perf_counter() - t0
-    return {**{k: counts[k] / steps for k in KINDS}, "wall_per_step": wall / steps,
-            "host_per_step": (wall - counts[INSIDE]) / steps, "steps": steps}
+    taken = sim.step_count - first
+    return {**{k: counts[k] / taken for k in KINDS}, "wall_per_step": wall / taken,
+            "host_per_step": (wall - counts[INSIDE]) / taken, "steps": taken,
+            "batches": runner.held_batches - batches}

@@ -61,6 +61,7 @@ def halfspace_particle_rule(prm, aux, dt, k, x, x0, v, C, m, s, work, out):
 class HalfSpace(GridStage, ParticleStage):
     """Subclasses set ``self.point``, ``self.normal`` (unit) and ``self.layer`` [m] in setup, then call
     ``self.pack_halfspace()``."""
+    holds_step = True  # its parameters follow the step and the time alone (engine/held_step.py)
 
     node_rule = halfspace_node_rule
     particle_rule = halfspace_particle_rule

@@ -54,6 +54,7 @@ def periodic_wrap(prm, aux, dt, k, x, x0, v, C, m, s, work, out):
 
 
 class Periodic(GridStage, ParticleStage):
+    holds_step = True  # its parameters follow the step and the time alone (engine/held_step.py)
     name = "periodic"
     backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda/cuda_parity.py); compiles for sm_90 (tests/cuda/cuda_compile.py)
     description = "Periodic boundary along one axis (period = grid extent)"

@@ -56,6 +56,10 @@ class Stage(Plugin):
     #: ranks stack, or through ``comm``; a stage that sums particles itself on the host without ``comm``
     #: says False and a run on several ranks refuses it
     splits_over_ranks: ClassVar[bool] = True
+    #: its ``*_args`` for a step depend on nothing but the step, the time and its set-up (not on the particles,
+    #: nor on what its ``*_reduced`` were handed), and asking them for a step that is then not taken changes
+    #: nothing: the held step (engine/held_step.py) computes a batch's parameters ahead and may end it early
+    holds_step: ClassVar[bool] = False
     #: the run's processes (parallel/comm.py), handed to every stage when the run is made (schemes/base.py's
     #: StepContext): a stage that sums particles outside its pass (a surface load's loaded mass) sums them
     #: over the ranks through it; None before

@@ -49,6 +49,7 @@ def scale_velocity(prm, aux, dt, k, x, x0, v, C, m, s, work, out):
 
 
 class ArtificialDamping(ParticleStage):
+    holds_step = True  # its parameters follow the step and the time alone (engine/held_step.py)
     name = "artificial"
     backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda/cuda_parity.py); compiles for sm_90 (tests/cuda/cuda_compile.py)
     description = "Linear artificial damping f = -zeta m v, zeta = xi/h sqrt(E/rho) (source eqs. 7-8)"

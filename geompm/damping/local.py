@@ -47,6 +47,7 @@ def local_damping(prm, aux, dt, x, m, v, v_old, f, pw, work, out):
 
 
 class LocalDamping(GridStage):
+    holds_step = True  # its parameters follow the step and the time alone (engine/held_step.py)
     name = "local"
     backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda/cuda_parity.py); compiles for sm_90 (tests/cuda/cuda_compile.py)
     description = "Cundall local non-viscous damping on grid nodes (quasi-static stages)"

@@ -19,7 +19,9 @@ from dataclasses import dataclass
 
 from geompm.engine import checkpoint
 from geompm.engine.gathered import gathered
+from geompm.errors import SimulationError
 from geompm.engine.health import HealthCheck, check_domain
+from geompm.engine.held_step import blockers, widened
 from geompm.engine.scheduler import Simulation
 
 log = logging.getLogger("geompm")
@@ -172,27 +174,71 @@ class Runner:
         take the same branch)."""
         return bool(self.sim.domain.comm.max([1.0 if flag else 0.0])[0] > 0.0)
 
+    def _target(self, end) -> float:
+        """The next time a step must land on: the end or the next output time."""
+        return min([end] + [self.due[k] for k, w in enumerate(self.writers) if w.interval > 0.0])
+
+    def _landing(self, dt, time, target):
+        """The step [s] from ``dt`` at ``time``: shortened to land on ``target`` (module docstring); and whether
+        it lands there."""
+        gap = target - time
+        if dt >= gap:
+            return gap, True
+        if SPLIT_BEFORE_OUTPUT * dt > gap:
+            dt = 0.5 * gap
+        if dt < SLOW_STEP_FRACTION * self.first_dt:
+            self.warn_once("dt", f"the time step fell to {dt:.3g} s (from {self.first_dt:.3g} s) at "
+                                 f"t = {time:.6g} s: the run will take longer than first estimated")
+        return dt, False
+
     def advance(self, end):
-        """One step of the loop: time-step control, the step, health and domain checks (no output)."""
-        sim, writers = self.sim, self.writers
+        """One step of the loop, or one held batch of steps (engine/held_step.py): time-step control, the
+        step(s), health and domain checks (no output)."""
+        sim = self.sim
         dt = sim.stable_dt()
         self.health.before_step(sim, dt)
-        target = min([end] + [self.due[k] for k, w in enumerate(writers) if w.interval > 0.0])
-        gap = target - sim.time
-        if dt >= gap:
-            dt = gap
-        elif SPLIT_BEFORE_OUTPUT * dt > gap:
-            dt = 0.5 * gap
-        if dt < SLOW_STEP_FRACTION * self.first_dt and dt < gap:
-            self.warn_once("dt", f"the time step fell to {dt:.3g} s (from {self.first_dt:.3g} s) at "
-                                 f"t = {sim.time:.6g} s: the run will take longer than first estimated")
-        sim.step(dt)
+        if self.held is not None:
+            self._advance_held(end, dt)
+        else:
+            sim.step(self._landing(dt, sim.time, self._target(end))[0])
         self.health.after_step(sim)
         removed = check_domain(sim, self.delete_outside)
         if removed:
             self.deleted += removed
             self.warn_once("deleted", f"{removed} particles left the grid at t = {sim.time:.6g} s and were deleted "
                                       "(run.on_leave_domain = delete); later deletions are counted in the summary")
+
+    def _advance_held(self, end, stable) -> None:
+        """Up to ``held_step.steps`` steps at ``fraction`` of the ``stable`` step [s], each after the first
+        checked before it is taken (engine/held_step.py); the batch ends before an output time is passed, after a
+        checkpoint time and before a spatial sort, so that what reads the host between steps sees every step."""
+        from geompm.engine.held_step import limits
+
+        sim, be = self.sim, self.sim.backend
+        steps, fraction, margin = self.held
+        hold = stable if sim.scene.dt_fixed is not None else fraction * stable
+        cells = be.particle_cells()
+        if cells is None:  # no particle here: one ordinary step
+            sim.step(self._landing(stable, sim.time, self._target(end))[0])
+            return
+        be.hold(limits(sim.scene, be.end_rows(), hold, cells, margin), widened(cells, margin, sim.scene.grid))
+        every, target = sim.scene.sort_interval, self._target(end)
+        after = []  # (time, step count, dt) after each step asked for
+        try:
+            for i in range(steps):
+                if i and ((every and sim.step_count % every == 0) or not be.gate(i)):
+                    break
+                dt, lands = self._landing(hold, sim.time, target)
+                sim.step(dt)
+                after.append((sim.time, sim.step_count, sim.dt))
+                if lands or (self.ckpt_due is not None and sim.time >= self.ckpt_due * (1 - 1e-12)):
+                    break
+        finally:
+            taken = be.release(len(after))
+        if taken < len(after):  # the device found a step that would have exceeded its state's stable step
+            sim.time, sim.step_count, sim.dt = after[taken - 1]
+        self.held_steps += taken
+        self.held_batches += 1
 
     def start(self) -> None:
         """Set up the health check and the clocks; ``run`` calls it, ``geompm bench`` calls it before
@@ -201,6 +247,13 @@ class Runner:
         self.sim.distribute()
         self.health = HealthCheck(self.sim.scene, self.sim.domain.comm)
         self.first_dt = self.sim.stable_dt()
+        self.held = self.sim.scene.held_step
+        self.held_steps = self.held_batches = 0
+        if self.held is not None:
+            why = blockers(self.sim)
+            if why:
+                raise SimulationError("solver.held_step cannot be used here: " + "; ".join(why) +
+                                      "; remove solver.held_step")
 
     def run(self, until: float | None = None) -> RunSummary:
         sim = self.sim

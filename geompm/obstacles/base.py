@@ -85,6 +85,7 @@ class RigidObstacle(ContactForceStage):
 
     A grid stage (contact on nodes) and a particle stage (the penetration
     guard of guard.py, after G2P); the force history is the sum of both."""
+    holds_step = True  # its parameters follow the step and the time alone (engine/held_step.py)
 
     Params = ObstacleParams
     #: the rules are this base's (a subclass gives host-side geometry only): checked against the CPU under

@@ -161,6 +161,7 @@ def terrain_guard_rule(prm, z, dt, k, x, x0, v, C, m, s, work, out):
 
 
 class Terrain(ContactForceStage):
+    holds_step = True  # its parameters follow the step and the time alone (engine/held_step.py)
     name = "terrain"
     backends = ("cpu", "cuda")  # same numbers as the CPU under the simulator (tests/cuda/cuda_parity.py); compiles for sm_90 (tests/cuda/cuda_compile.py)
     description = "Rigid terrain from a DEM (GeoTIFF / ESRI ASCII grid): Coulomb friction, force history (3D)"

@@ -59,6 +59,7 @@ def probe_rule(prm, aux, dt, k, x, x0, v, C, m, s, work, out):
 
 class ProbeStage(ParticleStage):
     """The probe ``params`` (schema/case.ProbeSpec) as a particle pass that changes nothing."""
+    holds_step = True  # its parameters follow the step and the time alone (engine/held_step.py)
 
     phase = OBSTACLE_PHASE  # after the contacts: it reads the velocities they leave
     particle_rule = probe_rule

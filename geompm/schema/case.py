@@ -82,6 +82,16 @@ class PressureSolverSpec(Strict):
                                   "iterations double)")
 
 
+class HeldStepSpec(Strict):
+    steps: int = Field(..., ge=2, le=10_000, description="Most steps in one batch [-] (the host reads a device "
+                       "backend once per batch; output times, checkpoints and spatial sorts end a batch too)")
+    fraction: float = Field(0.9, gt=0.0, le=1.0, description="The held step as a fraction of the stable step at "
+                            "the batch's start [-]: below 1, the room the state has to change before a step would "
+                            "exceed the stable one (a step that would ends the batch, it is not taken)")
+    margin_cells: int = Field(2, ge=1, le=64, description="How far the particles may move in a batch [cells]: the "
+                              "batch's grid window reaches this far beyond their cells at its start")
+
+
 class SolverSpec(Strict):
     transfer: Literal["apic", "pic", "flip", "mls"] = Field(
         "apic", description="Particle-grid velocity transfer: APIC (affine), PIC, FLIP/PIC blend, or MLS "
@@ -136,6 +146,13 @@ class SolverSpec(Strict):
         100, ge=0, description="On several MPI ranks (docs/parallel.md): move the cuts between the ranks' slabs "
         "so that each holds about as many particles, every this many steps; 0: keep the first cuts. Results "
         "change only at round-off")
+
+    held_step: HeldStepSpec | None = Field(
+        None, description="Hold the time step for a few steps (docs/performance.md, engine/held_step.py): up to "
+        "'steps' steps at 'fraction' of the stable step, each checked before it is taken, so that backend 'cuda' "
+        "reads the device once per batch instead of once per step; the CPU takes the same steps. Needs one "
+        "process, a dry scheme, no inflow, water table or strength trigger, and stages whose parameters follow "
+        "the time alone (refused otherwise, with the reason). Default: off, every step the stable one")
 
     pore_pressure_smoothing: bool = Field(
         True, description="Saturated soil only: the pore pressure acts on the grid, and is reported, as the "

@@ -27,6 +27,7 @@ from geompm.kernels.stencil import LINEAR_APIC, linear_apic
 from geompm.mpm.memory import available_memory, grid_bytes, particle_bytes, window_nodes
 from geompm.schema.case import Case, DampingSpec, MaterialSpec, OutputSpec, PluginSpec
 from geompm.schema.errors import format_validation_error
+from geompm.schema.held_step import held_step_problems
 from geompm.schema.inflows import inflow_particles, inflow_problems
 from geompm.schema.pore_water import pore_water_problems
 from geompm.schema.scheme import resolve_scheme
@@ -391,6 +392,7 @@ def _parse_valid_numbers(raw: dict, base_dir: Path) -> LoadedCase:
                                         f"({', '.join(f.name for f in loaded.scheme.fields)}) that an inflow does "
                                         "not set: inflows take dry or fluid materials"))
         problems.extend(loaded.scheme.problems(case, loaded))
+        problems.extend(held_step_problems(case, loaded))
         loaded.warnings.extend(loaded.scheme.warnings(case))
     loaded.warnings.extend(plausibility_warnings(loaded))
     if not problems:

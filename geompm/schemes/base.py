@@ -80,6 +80,9 @@ class Scheme:
     default: ClassVar[bool] = False
     #: its passes go through the run's decomposition, so it runs on several MPI ranks (docs/parallel.md)
     splits_over_ranks: ClassVar[bool] = True
+    #: the stable step of its state is that of the core's step-end reductions (kernels/step_end.py), so that
+    #: steps may be held (engine/held_step.py); a scheme that reduces its own terms of the step says False
+    holds_step: ClassVar[bool] = True
     #: its passes read the nodal force apart from the momentum (g_force, g_vel_old)
     split_force: ClassVar[bool] = False
     #: the particle arrays it declares beyond the core's (mpm/state.py)

@@ -3,7 +3,8 @@ numba-cuda's simulator, in a subprocess: slots keep their values when a new key 
 every slot back to its own starting value, and step_end's row over random particles (one of them non-finite)
 equals the host's reductions: per-axis bounds of the finite positions, the sums, the largest speed, the density
 extremes and engine/health.health_sums (count of non-finite particles, kinetic energy, energy gravity released),
-over more particles than one thread block holds so that the blocks' atomics are exercised."""
+over more particles than one thread block holds so that the blocks' atomics are exercised; the host's own row
+(kernels/step_end.end_row) equals it, and the kernel leaves its row untouched where the halt slot is set."""
 
 import json
 import os
@@ -23,6 +24,7 @@ from numba import cuda
 from geompm.backend import cuda_kernels as K
 from geompm.backend.cuda_tally import DeviceTally
 from geompm.kernels.health import health_sums
+from geompm.kernels.step_end import end_row
 
 t = DeviceTally()
 a = t.slots("a", [1.0, 2.0])
@@ -40,8 +42,16 @@ s = rng.normal(0.0, 1e3, (n, 6)); m = rng.uniform(0.5, 2.0, n); g = np.array([0.
 x[17, 1] = np.nan
 row = t.slots("end", K.END_START)
 K.step_end[K.blocks(n - 10), K.THREADS](cuda.to_device(x), cuda.to_device(x0), cuda.to_device(v), cuda.to_device(rho),
-                                       cuda.to_device(s), cuda.to_device(m), cuda.to_device(g), 10, n, row)
+                                       cuda.to_device(s), cuda.to_device(m), cuda.to_device(g), 10, n, row,
+                                       cuda.to_device(np.zeros(1)))
 r = t.read()[t.where("end")]
+host = np.array(K.END_START)
+end_row(x, x0, v, rho, s, m, g, 10, n, host)
+stopped = t.slots("stopped", K.END_START)
+K.step_end[K.blocks(n), K.THREADS](cuda.to_device(x), cuda.to_device(x0), cuda.to_device(v), cuda.to_device(rho),
+                                   cuda.to_device(s), cuda.to_device(m), cuda.to_device(g), 0, n, stopped,
+                                   cuda.to_device(np.ones(1)))
+untouched = bool((t.read()[t.where("stopped")] == np.array(K.END_START)).all())
 sl = slice(10, n)
 finite = np.isfinite(x[sl])
 lo = np.array([x[sl][finite[:, a], a].min() for a in range(d)])
@@ -52,7 +62,9 @@ print(json.dumps({"grown": grown, "after_reset": after_reset, "blocks": K.blocks
                   "sum_nan": bool(np.isnan(r[7])), "sum": float(abs(r[6] - x[sl][:, 0].sum())),
                   "speed": float(abs(r[9] - np.sqrt((v[sl] ** 2).sum(axis=1)).max())),
                   "rho": [float(abs(-r[10] - rho[sl].min())), float(abs(r[11] - rho[sl].max()))],
-                  "health": [float(r[12]), float(bad), float(abs(r[13] - ek) / ek), float(abs(r[14] - wg) / wg)]}))
+                  "health": [float(r[12]), float(bad), float(abs(r[13] - ek) / ek), float(abs(r[14] - wg) / wg)],
+                  "host_row": float(np.nanmax(np.abs(host - r) / np.maximum(np.abs(r), 1.0))),
+                  "host_nan": np.isnan(host).tolist() == np.isnan(r).tolist(), "halted_untouched": untouched}))
 """
 
 
@@ -68,3 +80,6 @@ def test_the_tally_keeps_grows_and_resets_and_step_end_equals_the_host_reduction
     assert out["sum_nan"] and out["sum"] < 1e-9  # the NaN shows in its axis' sum only
     bad_device, bad_host, ek, wg = out["health"]
     assert bad_device == bad_host == 1.0 and ek < 1e-12 and wg < 1e-12
+    # the host's row (kernels/step_end.end_row, the CPU's held-step check reads it) equals the device's
+    assert out["host_row"] < 1e-12 and out["host_nan"]
+    assert out["halted_untouched"]  # a halted step's reduction writes nothing (engine/held_step.py)

@@ -142,12 +142,12 @@ class SaturatedCuda(SaturatedPasses):
 
     def _scatter(self, view, lo, nloc, P) -> None:
         be, g, n, nn = self.be, self.scene.grid, self.n, view.g_mass.shape[0]
-        K.zero_grid[K.blocks(nn), K.THREADS](view.g_mass, view.g_mom, view.g_force, True)
+        K.zero_grid[K.blocks(nn), K.THREADS](view.g_mass, view.g_mom, view.g_force, True, be.halt())
         zero_rows[K.blocks(nn), K.THREADS](self.g_w[:nn])
         if n:
             K.p2g[K.blocks(n), K.THREADS](be.S, be.mode, P.p_x, P.p_v, P.p_C, P.p_mass, P.p_vol, self.p_total,
                                           be._origin, g.h, g.kind, lo, nloc, True, 1.0, self.scene.apic_dinv,
-                                          view.g_mass, view.g_mom, view.g_force)
+                                          view.g_mass, view.g_mom, view.g_force, be.halt())
             water_p2g[K.blocks(n), K.THREADS](be.S, P.p_x, P.p_vw, P.p_Cw, self.affine, self.p_wmass, self.p_drag,
                                               P.p_vol, P.p_n, P.p_pore, P.p_sat, P.p_material, self.table, self.p_total,
                                               be._origin,

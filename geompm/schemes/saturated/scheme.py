@@ -33,6 +33,7 @@ from geompm.schemes.saturated.solids import SolidFill
 
 
 class Saturated(Scheme):
+    holds_step = False  # its wave speeds are the step-end reductions of its own passes
     name = "saturated"
     description = "saturated soil, one point and two velocities (docs/pore-water.md)"
     pore_water = True
