@@ -6,7 +6,8 @@
 # network with `LEAN=1 sh benchmarks/device/fetch_wheels.sh`, about 37 MB (rasterio left out: the terrain scenes are then skipped), and carry it: the device tool's
 # `carry: ["benchmarks/device/wheels"]`).  Then it prints the GPU,
 # benchmarks fluid3d and dp3d on the cuda backend at 64, 128 and 256 cells per side (204k, 1.6M, 13M
-# particles), float32 and float64 (solver.precision), the tiled P2G at 128 and 256 (solver.p2g), benchmarks saturated3d
+# particles), float32 and float64 (solver.precision), with held steps at 128 (solver.held_step), the tiled P2G at
+# 128 and 256 (solver.p2g), benchmarks saturated3d
 # (saturated soil) at 64, checks CPU against CUDA on cases/dam_break.json and the saturated scene after 200 steps and on the tiny scenes (every law and stage, the device
 # sort, a checkpoint across backends, two float32 scenes), and ends in under 8 minutes (one deadline, below).  Everything it prints is also written to OUTDIR/gpu_check.log.
 set -u
@@ -39,6 +40,8 @@ here=$(cd "$(dirname "$0")" && pwd)
     bench 80 256 $p 10 --scene dp3d
   done
   for p in float32 float64; do bench 50 128 $p 30 --scene fluid3d --scene dp3d; done
+  # the held step (solver.held_step, engine/held_step.py): the host reads the device once a batch of up to 20 steps
+  bench 50 128 float32 40 --scene fluid3d --scene dp3d --set 'solver.held_step={"steps": 20}'
   step 70 python3 tests/cuda/cuda_parity.py --steps "$steps200" --case cases/dam_break.json $dam
   for p in float32 float64; do bench 35 64 $p 50 --scene fluid3d --scene dp3d; done
   bench 60 256 float32 10 --scene fluid3d --set solver.p2g=tiled
@@ -48,7 +51,9 @@ here=$(cd "$(dirname "$0")" && pwd)
   step 60 python3 tests/cuda/cuda_parity.py --steps "$steps200" saturated_drucker_prager
   # what each step asks of the host (launches, copies, synchronisations) and its wall time on the device
   if [ -n "${DRY:-}" ]; then step 60 python3 benchmarks/device/count_launches.py --steps 1 dp2d
-  else step 60 python3 benchmarks/device/count_launches.py --steps 20 --cells 16; fi
+    step 60 python3 benchmarks/device/count_launches.py --steps 4 --held 4 dp2d
+  else step 60 python3 benchmarks/device/count_launches.py --steps 20 --cells 16
+    step 60 python3 benchmarks/device/count_launches.py --steps 40 --cells 16 --held 20 fluid3d dp3d dp2d; fi
   # every law and stage on the GPU against the CPU, with what is left (both sides compile cold here)
   step 120 python3 tests/cuda/cuda_parity.py --steps 3 $tiny
   date -u

@@ -7,7 +7,7 @@ differently and add their own passes, ``scheme_passes``):
     view = window()                  the active grid window (mpm/grid.py)
     p2g(view, f_scale)               mass, momentum, internal force
     grid_update(view, dt)            momentum balance + gravity
-    grid_stage(stage, view, dt, time, remap)   each grid stage's node rule or node merge
+    grid_stages(stages, view, dt, time, remap) each grid stage's node rule or node merge, in order
     g2p(view, dt, set_velocity, move, gradient)
     particle_stages(stages, dt, time)          every particle stage's particle rule, in order
     update_stress(dt)                each material block through its law's loop; sets max_rate,
@@ -136,7 +136,7 @@ class Backend:
     def gate(self, i: int) -> bool:
         """Before the batch's step ``i`` (from 1): whether it may be taken (held_step.fits on this step's start);
         a device backend launches the test and answers True, its later kernels returning at once if it failed."""
-        from geompm.engine.held_step import fits
+        from geompm.kernels.held_box import fits
         from geompm.kernels.reduce import max_rate
 
         rate = self.max_rate if self.max_rate is not None else (max_rate(self.host_state().p_L) if self.state.n
@@ -179,6 +179,12 @@ class Backend:
     def grid_stage(self, stage, view, dt: float, time: float, remap: bool) -> None:
         """Run a GridStage's node rule (or node merge) over the window and hand it the reduction."""
         raise NotImplementedError
+
+    def grid_stages(self, stages, view, dt: float, time: float, remap: bool) -> None:
+        """Every grid stage of ``stages`` in order (``grid_stage`` each; a device backend launches consecutive
+        stages of one class together)."""
+        for stage in stages:
+            self.grid_stage(stage, view, dt, time, remap)
 
     def particle_stage(self, stage, dt: float, time: float) -> None:
         """Run a ParticleStage's particle rule over its blocks and hand it the reduction."""

@@ -283,8 +283,64 @@ class CudaBackend(Backend):
 
     def grid_stage(self, stage, view, dt: float, time: float, remap: bool) -> None:
         args = stage.grid_args(dt, time, remap)
-        if args is None:
-            return
+        if args is not None:
+            self._grid_pass(stage, args, view, dt, time, remap)
+
+    def grid_stages(self, stages, view, dt: float, time: float, remap: bool) -> None:
+        """Every grid stage in order, the consecutive node-rule stages of one class that share their ``aux`` (the
+        walls of a box) in one launch over the nodes their boxes cover (cuda_loops.NODE_GROUP), in one process."""
+        runs: list = []
+        for stage in stages:
+            args = stage.grid_args(dt, time, remap)
+            if args is None:
+                continue
+            if runs and self._node_joins(runs[-1][-1], (stage, args)):
+                runs[-1].append((stage, args))
+            else:
+                runs.append([(stage, args)])
+        for run in runs:
+            if len(run) > 1:
+                self._node_group(run, view, dt, time, remap)
+            else:
+                self._grid_pass(*run[0], view, dt, time, remap)
+
+    def _node_joins(self, a, b) -> bool:
+        (sa, (pa, xa)), (sb, (pb, xb)) = a, b
+        return type(sa) is type(sb) and type(sa).node_image is None and xa is xb and \
+            np.shape(pa) == np.shape(pb) and sa.node_reduction == sb.node_reduction and self.domain.size == 1
+
+    def _node_group(self, run, view, dt: float, time: float, remap: bool) -> None:
+        """One launch for the (stage, (prm, aux)) pairs of ``run``, node-rule stages of one class, one process."""
+        first = run[0][0]
+        cls, ids, d = type(first), tuple(id(s) for s, _ in run), self.scene.dim
+        boxes = np.zeros((len(run), 2, d), np.int64)
+        for g, (stage, _) in enumerate(run):
+            box = stage.node_box(time)
+            f_box, l_box = (np.full(d, -FAR_NODE), np.full(d, FAR_NODE)) if box is None else box
+            boxes[g, 0] = np.minimum(np.maximum(np.asarray(f_box) - view.lo, 0), view.nloc)
+            boxes[g, 1] = np.maximum(np.minimum(np.asarray(l_box) - view.lo + 1, view.nloc) - boxes[g, 0], 0)
+        held = boxes[:, 1].prod(axis=1) > 0
+        slots = max(first.node_reduction, 1)
+        outs, where = self._pass_slots((ids, "grid"), slots * len(run))
+        if held.any():
+            u0 = boxes[held, 0].min(axis=0)
+            un = (boxes[held, 0] + boxes[held, 1]).max(axis=0) - u0
+            total = int(np.prod(un))
+            kern = cuda_loops.node_group_kernel(cls.node_rule, cls.node_scratch, slots, cls.node_maxima)
+            prms = self._small(("grid", ids), np.stack([np.asarray(a[0], np.float64) for _, a in run]))
+            wet = view.g_pore is not None
+            kern[K.blocks(total), K.THREADS](
+                prms, self._table(first, "grid", run[0][1][1]), dt, self._origin, self.scene.grid.h,
+                self._small("lo", view.lo), self._small("nloc", view.nloc), self._small(("boxes", ids), boxes),
+                self._small(("u0", ids), u0), self._small(("un", ids), un), total, view.g_mass, view.g_vel,
+                view.g_vel_old if view.g_vel_old is not None else view.g_vel,
+                view.g_force if view.g_force is not None else view.g_vel, view.g_pore if wet else self._dry_node, wet,
+                outs.reshape(len(run), slots), self.halt())
+        for g, (stage, _) in enumerate(run):
+            at = slice(where.start + g * slots, where.start + (g + 1) * slots)
+            self._hand(lambda rows, stage=stage: stage.grid_reduced(rows, dt, time, remap), at, stage.node_reduction)
+
+    def _grid_pass(self, stage, args, view, dt: float, time: float, remap: bool) -> None:
         cls = type(stage)
         nn = view.g_mass.shape[0]
         lo, nloc = self._small("lo", view.lo), self._small("nloc", view.nloc)

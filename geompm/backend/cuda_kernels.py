@@ -23,7 +23,7 @@ import math
 
 from numba import cuda, float64, int64
 
-from geompm.engine.held_step import fits
+from geompm.kernels.held_box import fits
 from geompm.kernels.shape import axis_stencil
 from geompm.kernels.step_end import END_MAXIMA, END_ROW, END_START  # noqa: F401  (the layout, named here)
 from geompm.kernels.stencil import APIC, FLIP, MLS

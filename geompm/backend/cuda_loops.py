@@ -32,7 +32,7 @@ import functools
 import math
 import os
 
-from numba import cuda, float64, njit
+from numba import cuda, float64, int64, njit
 
 _CACHE: dict = {}
 
@@ -118,6 +118,46 @@ def node_kernel(prm, aux, dt, origin, h, lo, nloc, b0, bn, total, g_mass, g_vel,
               work[:{used}], acc)
 {flush}'''
 
+#: consecutive node-rule stages of one class that share their ``aux`` (the walls of a box) in one pass: a thread per
+#: node of the union of their node boxes (``u0``, ``un``, window-relative), each stage's rule where its own box
+#: (``boxes[g]``: first node and count per axis) holds the node, in stage order (a rule changes only its own node)
+NODE_GROUP = '''
+@cuda.jit
+def node_group_kernel(prms, aux, dt, origin, h, lo, nloc, boxes, u0, un, total, g_mass, g_vel, g_vel_old, g_force,
+                      g_pore, wet, outs, halt):
+    if halt[0] != 0.0:
+        return
+    q = cuda.grid(1)
+    if q >= total:
+        return
+    d = g_vel.shape[1]
+    c = cuda.local.array(3, int64)
+    rem = q
+    for a in range(d - 1, -1, -1):
+        c[a] = u0[a] + rem % un[a]
+        rem //= un[a]
+    idx = 0
+    for a in range(d):
+        idx = idx * nloc[a] + c[a]
+    m = g_mass[idx]
+    if m <= 0.0:
+        return
+    x = cuda.local.array(3, float64)
+    for a in range(d):
+        x[a] = origin[a] + (lo[a] + c[a]) * h
+{scratch_and_acc}    for g in range(prms.shape[0]):
+        inside = True
+        for a in range(d):
+            if c[a] < boxes[g, 0, a] or c[a] >= boxes[g, 0, a] + boxes[g, 1, a]:
+                inside = False
+        if inside:
+            for r in range({slots}):
+                acc[r] = 0.0
+            node_rule(prms[g], aux, dt, x[:d], m, g_vel[idx], g_vel_old[idx], g_force[idx], g_pore[idx if wet else 0],
+                      work[:{used}], acc)
+            out = outs[g]
+{flush}'''
+
 #: a particle rule's pass over the particles start..end of one block, for one stage or for consecutive stages of one
 #: class that share their ``aux`` (the walls of a box): each thread runs the rule of every stage on its particle in
 #: stage order, each stage's parameters a row of ``prms`` and its accumulator a row of ``outs`` (a rule changes only
@@ -183,7 +223,7 @@ def _pass_source(template: str, scratch: int, slots: int, maxima, indent: str = 
 def _kernel(kind: str, name: str, source: str, functions: dict):
     key = (kind, source, tuple(functions.items()))
     if key not in _CACHE:
-        namespace = {"cuda": cuda, "float64": float64, "math": math,
+        namespace = {"cuda": cuda, "float64": float64, "int64": int64, "math": math,
                      "__geompm_recipe__": {"kind": kind, "name": name, "source": source, "functions": functions}}
         namespace.update({alias: _device(fn) for alias, fn in functions.items()})
         exec(source, namespace)
@@ -217,6 +257,17 @@ def particle_kernel(rule, scratch: int, slots: int, maxima=()):
 @functools.cache
 def _node_kernel(rule, scratch, slots, maxima):
     return _kernel("node", "node_kernel", _pass_source(NODE, scratch, slots, maxima), {"node_rule": rule})
+
+
+def node_group_kernel(rule, scratch: int, slots: int, maxima=()):
+    """The kernel of NODE_GROUP around ``rule`` (cached as ``node_kernel``)."""
+    return _node_group_kernel(rule, scratch, slots, tuple(maxima))
+
+
+@functools.cache
+def _node_group_kernel(rule, scratch, slots, maxima):
+    return _kernel("node_group", "node_group_kernel", _pass_source(NODE_GROUP, scratch, slots, maxima, "        "),
+                   {"node_rule": rule})
 
 
 @functools.cache

@@ -67,6 +67,11 @@ def cmd_validate(args) -> int:
     print(f"scheme '{scheme.name}', a step's passes: {' -> '.join(scheme.passes)}")
     for line in scheme.report(scene):
         print(line)
+    if scene.held_step is not None:
+        n, fraction, margin = scene.held_step
+        print(f"held step: up to {n} steps at {fraction:g} of the stable step, each checked before it is taken "
+              f"(particles within {margin} cells of where a batch began): ~{1 / fraction - 1:.0%} more steps, one "
+              "read of a device backend per batch (docs/performance.md, The held step)")
     for source in scene.inflows:
         print(source.describe())
     if scene.strength_trigger is not None:

@@ -18,7 +18,7 @@ speed |v| below cfl h / dt_h less that wave speed, the rate below STRAIN_INCREME
 within ``margin_cells`` cells of the cells they held at the start (the batch's grid window reaches that far;
 a particle that leaves it, or the grid, ends the batch).  Inside the box the stable step is at least dt_h.
 
-Before each step after the first, ``fits`` tests the previous step's end rows against the box (with no
+Before each step after the first, ``fits`` (kernels/held_box.py) tests the previous step's end rows against the box (with no
 non-finite particle).  A step that fails it is not taken: the batch ends there, and the host starts the next
 one from that state with a new stable step.  No step exceeds the stable step of the state it starts from.
 On a device the test runs in a one-thread kernel and every later kernel of the batch returns at once once it
@@ -32,39 +32,13 @@ such scenes are refused with the held step (``blockers``).
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
-from numba import njit
 
-from geompm.kernels.step_end import BAD, END_ROW, RHO_MAX, RHO_MIN, SPEED
+from geompm.kernels.held_box import BLOCKS, DIM, RATE_ALLOW, RHO, V_ALLOW, X_HI, X_LO, fits  # noqa: F401
+from geompm.kernels.step_end import END_ROW, RHO_MAX, RHO_MIN, SPEED
 
 #: the density allowances tried, largest first (the box: module docstring)
 DENSITY_STEPS = (0.5, 0.2, 0.1, 0.05, 0.02, 0.01, 0.005, 0.002, 0.001, 0.0)
-#: the box's layout: largest |v| [m/s], largest |L_ii| [1/s], space dimension, material blocks, the particles'
-#: lowest and highest coordinates per axis [m], then per block the lowest and the highest density [kg/m3]
-V_ALLOW, RATE_ALLOW, DIM, BLOCKS, X_LO, X_HI, RHO = 0, 1, 2, 3, 4, 7, 10
-
-
-@njit(cache=True)
-def fits(rows, rate, box) -> bool:
-    """Whether a step may be taken at the held step from the state whose step-end ``rows`` (blocks * END_ROW,
-    kernels/step_end.py) and largest |L_ii| ``rate`` [1/s] are given: inside ``box`` (``limits``), every
-    particle finite.  A NaN anywhere fails a comparison, so it fails."""
-    d, nb = int(box[DIM]), int(box[BLOCKS])
-    if not rate <= box[RATE_ALLOW]:
-        return False
-    for k in range(nb):
-        r = k * END_ROW
-        if not (rows[r + BAD] == 0.0 and rows[r + SPEED] <= box[V_ALLOW]):
-            return False
-        if not (-rows[r + RHO_MIN] >= box[RHO + k] and rows[r + RHO_MAX] <= box[RHO + nb + k]):
-            return False
-        for a in range(d):
-            if not (math.isfinite(rows[r + 6 + a]) and -rows[r + a] >= box[X_LO + a] and
-                    rows[r + 3 + a] <= box[X_HI + a]):
-                return False
-    return True
 
 
 def _law_speed(scene, rows, k: int, delta: float) -> float:

@@ -1,7 +1,9 @@
 """Run a scene to its end time: output schedule, checkpoints, health checks, progress bar.
 
 Each writer writes at t = 0, at every multiple of its interval (the time step
-is shortened to land on output times exactly) and at the end.  After every
+is shortened to land on output times exactly) and at the end; one of interval 0
+after every step, or with held steps (solver.held_step, engine/held_step.py)
+after every batch.  After every
 step the health check (health.py) stops a run that has become unphysical.
 Checkpoints (checkpoint.py) are written every ``run.checkpoint_interval``
 simulated seconds, every ``run.checkpoint_wall_minutes`` of wall time, when a

@@ -85,7 +85,7 @@ class PressureSolverSpec(Strict):
 class HeldStepSpec(Strict):
     steps: int = Field(..., ge=2, le=10_000, description="Most steps in one batch [-] (the host reads a device "
                        "backend once per batch; output times, checkpoints and spatial sorts end a batch too)")
-    fraction: float = Field(0.9, gt=0.0, le=1.0, description="The held step as a fraction of the stable step at "
+    fraction: float = Field(0.95, gt=0.0, le=1.0, description="The held step as a fraction of the stable step at "
                             "the batch's start [-]: below 1, the room the state has to change before a step would "
                             "exceed the stable one (a step that would ends the batch, it is not taken)")
     margin_cells: int = Field(2, ge=1, le=64, description="How far the particles may move in a batch [cells]: the "

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 def held_step_problems(case, loaded) -> list[tuple[str, str]]:
     """(JSON path, sentence) of each part of ``case`` that needs the host between steps, where the case asks for
-    held steps; none otherwise.  The run on several MPI ranks is refused when it starts (engine/runner.py)."""
+    held steps; none otherwise.  The run on several MPI ranks is refused when it starts (engine/runner.py).  The
+    series writer a run adds where the case has none (every step, engine/run_case.py) writes after each batch."""
     if case.solver.held_step is None:
         return []
     out = []
@@ -20,6 +21,11 @@ def held_step_problems(case, loaded) -> list[tuple[str, str]]:
         out.append(("triggers.water_table", "a water table lays its pressure on the particles on the host" + fix))
     if triggers is not None and triggers.strength_reduction is not None:
         out.append(("triggers.strength_reduction", "a strength trigger changes the laws between steps" + fix))
+    for i, spec in enumerate(case.outputs):
+        if spec.interval == 0.0:
+            out.append((f"outputs.{i}.interval", f"0 writes every step, but the host sees the state only at the end "
+                                                 f"of a held batch; give an interval [s] (e.g. {1e-3:g}) or remove "
+                                                 "solver.held_step"))
     for r in loaded.boundaries + loaded.obstacles + loaded.damping:
         if not r.cls.holds_step:
             out.append((r.path, f"'{r.label}' computes its parameters from the particles or from what it reduced "

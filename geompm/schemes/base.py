@@ -270,9 +270,7 @@ class StepContext:
     def grid_stages_run(self, view, dt: float, remap: bool = False, phases=None) -> None:
         """Each grid stage in phase order (``phases``: (lowest, highest) excluded, or None for all)."""
         lo, hi = phases if phases is not None else (-np.inf, np.inf)
-        for stage in self.grid_stages:
-            if lo <= stage.phase < hi:
-                self.backend.grid_stage(stage, view, dt, self.time, remap)
+        self.backend.grid_stages([s for s in self.grid_stages if lo <= s.phase < hi], view, dt, self.time, remap)
 
     def halo(self, arrays) -> None:
         """Add the neighbouring ranks' partial sums of window arrays of this step's view (nothing in one

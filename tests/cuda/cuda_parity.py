@@ -258,6 +258,54 @@ def sort_check() -> dict:
             "scan_length": int(a.size)}
 
 
+HELD_SCENES = (("elastic_apic_quadratic_usl", 1.0, 8), ("herschel_bulkley_explicit_and_box_guard", 0.9, 12))
+
+
+def held_run(case: dict, backend: str, fraction: float, steps: int, folder: Path):
+    """``steps`` steps of ``case`` on ``backend`` in held batches of up to 4 at ``fraction`` (engine/held_step.py),
+    as `geompm run` takes them: (step count and time after each batch, series rows, particles by p_id, batches)."""
+    import math
+
+    from geompm.engine.runner import Runner
+
+    c = json.loads(json.dumps(case))
+    c.pop("parity_place", None)
+    c["solver"].update(backend=backend, held_step={"steps": 4, "fraction": fraction})
+    sim = Simulation(scene_from_dict(c, base_dir=folder))
+    runner = Runner(sim, folder, [], progress=False)
+    runner.start()
+    clock, rows = [], []
+    while sim.step_count < steps:
+        runner.advance(math.inf)
+        clock.append((sim.step_count, sim.time))
+        rows.append(sim.series_row())
+    st = sim.state
+    order = np.argsort(st.p_id)
+    return clock, rows, {k: getattr(st, k)[order].copy() for k in ("p_x", "p_v", "p_stress")}, runner.held_batches
+
+
+def held_check(names=None) -> dict:
+    """The held step on both backends (HELD_SCENES: fraction 1 ends every batch at the device's first check,
+    0.9 runs them whole with an obstacle's recorded forces): the steps after each batch, the largest difference of
+    the clock, of each particle field (relative to its largest magnitude) and of the series (relative to each
+    column's largest magnitude)."""
+    folder = Path(tempfile.mkdtemp(prefix="geompm-held-"))
+    out = {"check": "held"}
+    for name, fraction, steps in HELD_SCENES:
+        if names is not None and name not in names:
+            continue
+        (ca, ra, fa, ba), (cb, rb, fb, bb) = (held_run(scenes(folder)[name], b, fraction, steps, folder)
+                                              for b in ("cpu", "cuda"))
+        cols = [k for k in ra[-1] if isinstance(ra[-1][k], float)]
+        out[name] = {"steps_cpu": [s for s, _ in ca], "steps_cuda": [s for s, _ in cb], "batches": [ba, bb],
+                     "clock": max(abs(a[1] - b[1]) for a, b in zip(ca, cb)),
+                     "fields": max(compare(fa[k], fb[k]) for k in fa),
+                     "series": max((compare(np.array([r[k] for r in ra]), np.array([r[k] for r in rb])) for k in cols),
+                                   default=0.0),
+                     "force_columns": [k for k in cols if k.startswith("dam_f")]}
+    return out
+
+
 def tiled_check() -> dict:
     """p2g_tiled (shared-memory tile per block) against p2g (global atomics) on the same particles: a
     compact sorted 2D block whose blocks fit the tile, folded and split, and a spread 3D cloud whose
@@ -365,6 +413,7 @@ def compare_all(a) -> None:
         print(json.dumps(sort_check()), flush=True)
         print(json.dumps(resume_check(all_scenes["drucker_prager_cylinder_sorted"], folder)), flush=True)
         print(json.dumps(tiled_check()), flush=True)
+        print(json.dumps(held_check(names=("elastic_apic_quadratic_usl",))), flush=True)
     for name in a.names or list(all_scenes)[k - 1::n]:
         case = all_scenes[name]
         fa, ra, sa, wa = run(case, "cpu", a.steps, folder)

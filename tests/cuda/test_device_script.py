@@ -1,9 +1,10 @@
 """The device script's dry run: `DRY=1 sh benchmarks/device/run.sh OUT` runs every command of the GPU check under
 numba-cuda's simulator at tiny sizes (4 cells per side here, DRY_CELLS), so a session lent a GPU for 15 minutes
 does not lose them to a broken command.  Checked: the script exits 0, no command is cut, fails or is skipped,
-every bench command prints its scenes (11 commands, 16 scene rows, each in the precision and P2G it was asked
-for), the two parity checks agree with the CPU within 1e-9 (the issue's bound), and the count of what a step asks
-of the host shows one blocking copy a step (benchmarks/device/count_launches.py)."""
+every bench command prints its scenes (12 commands, 18 scene rows, each in the precision, P2G and held step it
+was asked for), the two parity checks agree with the CPU within 1e-9 (the issue's bound), and the count of what a
+step asks of the host shows one blocking copy a step, or a batch with held steps (benchmarks/device/
+count_launches.py)."""
 
 import json
 import os
@@ -29,8 +30,10 @@ def test_the_device_script_runs_every_step_under_the_simulator(tmp_path):
         assert word not in log, log[-3000:]
     rows = [json.loads(line) for line in log.splitlines() if line.startswith("{")]
     bench = [row for row in rows if "particle_steps_per_s" in row]
-    assert len(bench) == 16, [row.get("scene") for row in bench]
-    assert all(row["particles"] > 0 and row["steps"] == 1 for row in bench)
+    assert len(bench) == 18, [row.get("scene") for row in bench]
+    held = [row for row in bench if any(s.startswith("solver.held_step") for s in row["sets"])]
+    assert len(held) == 2 and all(row["held_batches"] >= 1 for row in held)
+    assert all(row["particles"] > 0 and (row["steps"] == 1 or row in held) for row in bench)
     asked = {(row["scene"], s.split("=")[1]) for row in bench for s in row["sets"] if s.startswith("solver.precision")}
     assert {("fluid3d", "float32"), ("fluid3d", "float64"), ("dp3d", "float32"), ("dp3d", "float64"),
             ("saturated3d", "float64")} <= asked
@@ -40,4 +43,7 @@ def test_the_device_script_runs_every_step_under_the_simulator(tmp_path):
     for row in parity:
         assert max(row["fields"].values()) < 1e-9, row
     counts = [row for row in rows if "blocking" in row]
-    assert counts and all(row["blocking"] == 1 and row["h2d"] == 0 for row in counts), counts
+    ordinary = [row for row in counts if row["batches"] == 0]
+    assert ordinary and all(row["blocking"] == 1 and row["h2d"] == 0 for row in ordinary), counts
+    batched = [row for row in counts if row["batches"]]  # 4 steps in one batch: a read and the box sent
+    assert batched and all(row["blocking"] <= 2 / row["steps"] + 1e-12 for row in batched), counts

@@ -135,12 +135,13 @@ def test_a_fixed_step_is_held_with_the_place_and_finiteness_checks_only(tmp_path
 
 @pytest.mark.parametrize("over, path", [
     ({"triggers": {"strength_reduction": {"times": [0.0, 1.0], "factors": [1.0, 1.5]}}}, "triggers.strength_reduction"),
+    ({"outputs": [{"writer": "series", "interval": 0.0}]}, "outputs.0.interval"),
     ({"boundaries": [{"type": "wall", "side": "y-", "condition": "slip"},
                      {"type": "surface_load", "name": "footing", "region": {"min": [0.2, 0.3], "max": [0.6, 0.4]},
                       "normal": [0.0, 1.0], "pressure": 1.0e3}]}, "boundaries.1"),
 ])
 def test_what_a_batch_cannot_carry_is_refused_with_its_path(over, path):
-    case = tiny_case(**over)
+    case = tiny_case(**{"outputs": [{"writer": "series", "interval": 0.01}], **over})
     case["materials"]["soil"] = {"model": "drucker_prager", "density": 2000.0, "youngs_modulus": 1e6,
                                  "poisson_ratio": 0.3, "friction_angle": 30.0, "cohesion": 100.0}
     case["solver"]["held_step"] = {"steps": 10}
