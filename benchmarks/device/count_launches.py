@@ -47,6 +47,7 @@ def main(argv=None) -> int:
     from geompm.api import scene_from_dict
     from geompm.bench.cuda_counts import KINDS, step_counts
     from geompm.engine.scheduler import Simulation
+    from geompm.errors import CaseError
 
     folder = Path(tempfile.mkdtemp())
     tiny = parity_scenes(folder)
@@ -68,7 +69,11 @@ def main(argv=None) -> int:
         raw.setdefault("solver", {})["backend"] = "cuda"
         if args.held:
             raw["solver"]["held_step"] = {"steps": args.held}
-        scene = scene_from_dict(raw, base, sets)
+        try:
+            scene = scene_from_dict(raw, base, sets)
+        except CaseError as exc:  # a scene that refuses held steps (the saturated scheme): the reason, not a count
+            print(f"{name:<32}refused: {exc.problems[0][0]}: {exc.problems[0][1]}", flush=True)
+            continue
         sim = Simulation(scene)
         sim.distribute()
         sites = Counter() if args.sites else None

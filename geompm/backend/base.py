@@ -6,8 +6,8 @@ differently and add their own passes, ``scheme_passes``):
     sort_particles()                 every solver.sort_interval steps
     view = window()                  the active grid window (mpm/grid.py)
     p2g(view, f_scale)               mass, momentum, internal force
-    grid_update(view, dt)            momentum balance + gravity
-    grid_stages(stages, view, dt, time, remap) each grid stage's node rule or node merge, in order
+    grid_update_and_stages(view, dt, stages, time)   momentum balance + gravity, then each grid stage's
+                                     node rule or node merge in order (grid_update, grid_stages)
     g2p(view, dt, set_velocity, move, gradient)
     particle_stages(stages, dt, time)          every particle stage's particle rule, in order
     update_stress(dt)                each material block through its law's loop; sets max_rate,
@@ -179,6 +179,12 @@ class Backend:
     def grid_stage(self, stage, view, dt: float, time: float, remap: bool) -> None:
         """Run a GridStage's node rule (or node merge) over the window and hand it the reduction."""
         raise NotImplementedError
+
+    def grid_update_and_stages(self, view, dt: float, stages, time: float) -> None:
+        """``grid_update`` and then ``grid_stages`` (a device backend joins the update to the first stages' node
+        rules in one launch)."""
+        self.grid_update(view, dt)
+        self.grid_stages(stages, view, dt, time, False)
 
     def grid_stages(self, stages, view, dt: float, time: float, remap: bool) -> None:
         """Every grid stage of ``stages`` in order (``grid_stage`` each; a device backend launches consecutive

@@ -289,6 +289,23 @@ class CudaBackend(Backend):
     def grid_stages(self, stages, view, dt: float, time: float, remap: bool) -> None:
         """Every grid stage in order, the consecutive node-rule stages of one class that share their ``aux`` (the
         walls of a box) in one launch over the nodes their boxes cover (cuda_loops.NODE_GROUP), in one process."""
+        for run in self._grid_runs(stages, dt, time, remap):
+            self._grid_run(run, view, dt, time, remap)
+
+    def grid_update_and_stages(self, view, dt: float, stages, time: float) -> None:
+        """The grid update joined to the first run of node-rule stages (cuda_loops.UPDATE_GROUP: one launch), then
+        the other runs as ``grid_stages``; the update alone where the first stage merges nodes or the run is
+        shared between processes."""
+        runs = self._grid_runs(stages, dt, time, False)
+        if runs and type(runs[0][0][0]).node_image is None and self.domain.size == 1:
+            self._node_group(runs.pop(0), view, dt, time, False, update=True)
+        else:
+            self.grid_update(view, dt)
+        for run in runs:
+            self._grid_run(run, view, dt, time, False)
+
+    def _grid_runs(self, stages, dt: float, time: float, remap: bool) -> list:
+        """The stages with their (prm, aux) for this step (those that act), in runs of stages that join."""
         runs: list = []
         for stage in stages:
             args = stage.grid_args(dt, time, remap)
@@ -298,19 +315,22 @@ class CudaBackend(Backend):
                 runs[-1].append((stage, args))
             else:
                 runs.append([(stage, args)])
-        for run in runs:
-            if len(run) > 1:
-                self._node_group(run, view, dt, time, remap)
-            else:
-                self._grid_pass(*run[0], view, dt, time, remap)
+        return runs
+
+    def _grid_run(self, run, view, dt: float, time: float, remap: bool) -> None:
+        if len(run) > 1:
+            self._node_group(run, view, dt, time, remap)
+        else:
+            self._grid_pass(*run[0], view, dt, time, remap)
 
     def _node_joins(self, a, b) -> bool:
         (sa, (pa, xa)), (sb, (pb, xb)) = a, b
         return type(sa) is type(sb) and type(sa).node_image is None and xa is xb and \
             np.shape(pa) == np.shape(pb) and sa.node_reduction == sb.node_reduction and self.domain.size == 1
 
-    def _node_group(self, run, view, dt: float, time: float, remap: bool) -> None:
-        """One launch for the (stage, (prm, aux)) pairs of ``run``, node-rule stages of one class, one process."""
+    def _node_group(self, run, view, dt: float, time: float, remap: bool, update: bool = False) -> None:
+        """One launch for the (stage, (prm, aux)) pairs of ``run``, node-rule stages of one class, one process;
+        ``update``: the grid update first, at every node of the window (cuda_loops.UPDATE_GROUP)."""
         first = run[0][0]
         cls, ids, d = type(first), tuple(id(s) for s, _ in run), self.scene.dim
         boxes = np.zeros((len(run), 2, d), np.int64)
@@ -322,20 +342,27 @@ class CudaBackend(Backend):
         held = boxes[:, 1].prod(axis=1) > 0
         slots = max(first.node_reduction, 1)
         outs, where = self._pass_slots((ids, "grid"), slots * len(run))
-        if held.any():
+        prms = self._small(("grid", ids), np.stack([np.asarray(a[0], np.float64) for _, a in run]))
+        wet, split = view.g_pore is not None, self.split_force
+        rules = (prms, self._table(first, "grid", run[0][1][1]), dt, self._origin, self.scene.grid.h,
+                 self._small("lo", view.lo), self._small("nloc", view.nloc), self._small(("boxes", ids), boxes))
+        nodes = (view.g_mass, view.g_vel, view.g_vel_old if view.g_vel_old is not None else view.g_vel,
+                 view.g_force if view.g_force is not None else view.g_vel, view.g_pore if wet else self._dry_node, wet,
+                 outs.reshape(len(run), slots), self.halt())
+        if update:
+            nn = view.g_mass.shape[0]
+            kern = cuda_loops.update_group_kernel(cls.node_rule, cls.node_scratch, slots, tuple(cls.node_maxima),
+                                                  K.update_node)
+            kern[K.blocks(nn), K.THREADS](view.g_mom, view.g_force if split else view.g_mom, self._gravity,
+                                          self.mass_eps, split, view.g_vel_old if split else view.g_vel, *rules,
+                                          *nodes)
+        elif held.any():
             u0 = boxes[held, 0].min(axis=0)
             un = (boxes[held, 0] + boxes[held, 1]).max(axis=0) - u0
             total = int(np.prod(un))
             kern = cuda_loops.node_group_kernel(cls.node_rule, cls.node_scratch, slots, cls.node_maxima)
-            prms = self._small(("grid", ids), np.stack([np.asarray(a[0], np.float64) for _, a in run]))
-            wet = view.g_pore is not None
-            kern[K.blocks(total), K.THREADS](
-                prms, self._table(first, "grid", run[0][1][1]), dt, self._origin, self.scene.grid.h,
-                self._small("lo", view.lo), self._small("nloc", view.nloc), self._small(("boxes", ids), boxes),
-                self._small(("u0", ids), u0), self._small(("un", ids), un), total, view.g_mass, view.g_vel,
-                view.g_vel_old if view.g_vel_old is not None else view.g_vel,
-                view.g_force if view.g_force is not None else view.g_vel, view.g_pore if wet else self._dry_node, wet,
-                outs.reshape(len(run), slots), self.halt())
+            kern[K.blocks(total), K.THREADS](*rules, self._small(("u0", ids), u0), self._small(("un", ids), un), total,
+                                             *nodes)
         for g, (stage, _) in enumerate(run):
             at = slice(where.start + g * slots, where.start + (g + 1) * slots)
             self._hand(lambda rows, stage=stage: stage.grid_reduced(rows, dt, time, remap), at, stage.node_reduction)

@@ -331,15 +331,9 @@ def zero_grid(g_mass, g_mom, g_force, split, halt):
             g_force[i, a] = 0.0
 
 
-@cuda.jit
-def grid_update(g_mass, g_mom, g_force, gravity, dt, mass_eps, split, g_vel, g_vel_old, halt):
-    """v_old = (mv)/m, v = v_old + dt (f/m + g) (split), or v = ((mv) + dt f)/m + dt g (folded);
-    nodes at or below mass_eps get zero velocity (kernels/grid_update.py)."""
-    if halt[0] != 0.0:  # a held batch ended before this step (engine/held_step.py)
-        return
-    i = cuda.grid(1)
-    if i >= g_mass.shape[0]:
-        return
+@cuda.jit(device=True)
+def update_node(i, g_mass, g_mom, g_force, gravity, dt, mass_eps, split, g_vel, g_vel_old):
+    """Node i of ``grid_update`` (also the first act of cuda_loops.UPDATE_GROUP, the update joined to node rules)."""
     m = g_mass[i]
     for a in range(g_mom.shape[1]):
         if m > mass_eps:
@@ -353,6 +347,17 @@ def grid_update(g_mass, g_mom, g_force, gravity, dt, mass_eps, split, g_vel, g_v
             g_vel[i, a] = 0.0
             if split:
                 g_vel_old[i, a] = 0.0
+
+
+@cuda.jit
+def grid_update(g_mass, g_mom, g_force, gravity, dt, mass_eps, split, g_vel, g_vel_old, halt):
+    """v_old = (mv)/m, v = v_old + dt (f/m + g) (split), or v = ((mv) + dt f)/m + dt g (folded);
+    nodes at or below mass_eps get zero velocity (kernels/grid_update.py)."""
+    if halt[0] != 0.0:  # a held batch ended before this step (engine/held_step.py)
+        return
+    i = cuda.grid(1)
+    if i < g_mass.shape[0]:
+        update_node(i, g_mass, g_mom, g_force, gravity, dt, mass_eps, split, g_vel, g_vel_old)
 
 
 @cuda.jit

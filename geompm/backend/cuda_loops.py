@@ -139,7 +139,30 @@ def node_group_kernel(prms, aux, dt, origin, h, lo, nloc, boxes, u0, un, total, 
     idx = 0
     for a in range(d):
         idx = idx * nloc[a] + c[a]
-    m = g_mass[idx]
+{rules}'''
+
+#: the grid update (cuda_kernels.update_node) and then NODE_GROUP's rules, a thread per node of the window: the
+#: update changes only its own node, so this is the update's pass and the stages' one after the other
+UPDATE_GROUP = '''
+@cuda.jit
+def update_group_kernel(g_mom, g_force_u, gravity, mass_eps, split, g_vel_old_u, prms, aux, dt, origin, h, lo, nloc,
+                        boxes, g_mass, g_vel, g_vel_old, g_force, g_pore, wet, outs, halt):
+    if halt[0] != 0.0:
+        return
+    idx = cuda.grid(1)
+    if idx >= g_mass.shape[0]:
+        return
+    update_node(idx, g_mass, g_mom, g_force_u, gravity, dt, mass_eps, split, g_vel, g_vel_old_u)
+    d = g_vel.shape[1]
+    c = cuda.local.array(3, int64)
+    rem = idx
+    for a in range(d - 1, -1, -1):
+        c[a] = rem % nloc[a]
+        rem //= nloc[a]
+{rules}'''
+
+#: the rules of NODE_GROUP and UPDATE_GROUP at node ``idx`` (window cell ``c``)
+GROUP_RULES = '''    m = g_mass[idx]
     if m <= 0.0:
         return
     x = cuda.local.array(3, float64)
@@ -266,8 +289,17 @@ def node_group_kernel(rule, scratch: int, slots: int, maxima=()):
 
 @functools.cache
 def _node_group_kernel(rule, scratch, slots, maxima):
-    return _kernel("node_group", "node_group_kernel", _pass_source(NODE_GROUP, scratch, slots, maxima, "        "),
-                   {"node_rule": rule})
+    rules = _pass_source(GROUP_RULES, scratch, slots, maxima, "        ")
+    return _kernel("node_group", "node_group_kernel", NODE_GROUP.replace("{rules}", rules), {"node_rule": rule})
+
+
+@functools.cache
+def update_group_kernel(rule, scratch: int, slots: int, maxima, update):
+    """The kernel of UPDATE_GROUP around ``rule``, ``update`` the grid update's per-node function
+    (cuda_kernels.update_node, handed in: that module imports this one)."""
+    rules = _pass_source(GROUP_RULES, scratch, slots, tuple(maxima), "        ")
+    return _kernel("update_group", "update_group_kernel", UPDATE_GROUP.replace("{rules}", rules),
+                   {"node_rule": rule, "update_node": update})
 
 
 @functools.cache

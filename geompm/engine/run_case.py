@@ -175,6 +175,8 @@ def write_status(run_dir: Path, scene, runner, summary, finished: bool, reason: 
         "grounds": [o.label for o in scene.stages if o.provides_ground],
         **({"mpi": {**sim.domain.report(sim.state), "peak_rss_bytes_per_rank": rss}} if comm.size > 1 else {}),
         **({"gravity_loading": scene.loading} if scene.loading else {}),
+        **({"held_step": {"batches": runner.held_batches, "steps": runner.held_steps}}  # this session's
+           if scene.held_step is not None and hasattr(runner, "held_batches") else {}),
         "geompm": __version__,
     }
     if comm.is_root:

@@ -175,6 +175,11 @@ class Scheme:
         """Every grid stage in phase order (loads, damping, boundaries, obstacles)."""
         run.grid_stages_run(run.view, dt)
 
+    def grid_update_and_stages(self, run, dt: float) -> None:
+        """The nodes' momentum balance with gravity, then every grid stage in phase order (a device backend runs
+        the update and the first stages' node rules in one launch: a node rule reads and writes its own node)."""
+        run.backend.grid_update_and_stages(run.view, dt, run.grid_stages, run.time)
+
     def g2p(self, run, dt: float) -> None:
         """Velocities, affine matrices, positions, velocity gradients and volumes from the grid."""
         run.backend.g2p(run.view, dt, set_velocity=True, move=True, gradient=True)

@@ -16,7 +16,7 @@ from geompm.schemes.base import Scheme
 class Musl(Scheme):
     name = "musl"
     description = "modified update stress last (Sulsky, Zhou & Schreyer 1995): velocities re-mapped before the gradient"
-    passes = ("window", "load", "p2g", "grid_update", "grid_stages", "g2p_velocity", "remap", "grid_stages_remapped",
+    passes = ("window", "load", "p2g", "grid_update_and_stages", "g2p_velocity", "remap", "grid_stages_remapped",
               "g2p_move", "particle_stages", "stress_update")
 
     def g2p_velocity(self, run, dt: float) -> None:

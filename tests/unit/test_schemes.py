@@ -25,7 +25,7 @@ def test_the_step_orders_are_usl_musl_and_the_two_phase_one():
     saturated step: loads and damping before the relative velocity, the contacts after it, then the split."""
     s = registry.available("schemes")
     usl, musl, wet = s["usl"].plugin.passes, s["musl"].plugin.passes, s["saturated"].plugin.passes
-    assert usl.index("grid_stages") < usl.index("g2p") < usl.index("particle_stages") < usl.index("stress_update")
+    assert usl.index("grid_update_and_stages") < usl.index("g2p") < usl.index("particle_stages") < usl.index("stress_update")
     assert musl.index("g2p_velocity") < musl.index("remap") < musl.index("grid_stages_remapped") < \
         musl.index("g2p_move")
     assert wet.index("loads_and_damping") < wet.index("relative_velocity") < wet.index("contacts") < \
