@@ -53,6 +53,19 @@ from geompm.backend.base import Backend, mass_floor, relaxed_materials
 DEVICE_ARRAYS = ("p_x", "p_x0", "p_v", "p_C", "p_mass", "p_vol", "p_rho", "p_stress", "p_L")
 
 
+def _runs(pairs, joins) -> list:
+    """The (stage, args) ``pairs`` whose args are not None, in runs of consecutive pairs that ``joins`` joins."""
+    runs: list = []
+    for pair in pairs:
+        if pair[1] is None:
+            continue
+        if runs and joins(runs[-1][-1], pair):
+            runs[-1].append(pair)
+        else:
+            runs.append([pair])
+    return runs
+
+
 class _DeviceGrid:
     """The grid window's device arrays, grown geometrically (mpm/grid.GridBuffers on the host)."""
 
@@ -306,16 +319,7 @@ class CudaBackend(Backend):
 
     def _grid_runs(self, stages, dt: float, time: float, remap: bool) -> list:
         """The stages with their (prm, aux) for this step (those that act), in runs of stages that join."""
-        runs: list = []
-        for stage in stages:
-            args = stage.grid_args(dt, time, remap)
-            if args is None:
-                continue
-            if runs and self._node_joins(runs[-1][-1], (stage, args)):
-                runs[-1].append((stage, args))
-            else:
-                runs.append([(stage, args)])
-        return runs
+        return _runs(((s, s.grid_args(dt, time, remap)) for s in stages), self._node_joins)
 
     def _grid_run(self, run, view, dt: float, time: float, remap: bool) -> None:
         if len(run) > 1:
@@ -363,9 +367,8 @@ class CudaBackend(Backend):
             kern = cuda_loops.node_group_kernel(cls.node_rule, cls.node_scratch, slots, cls.node_maxima)
             kern[K.blocks(total), K.THREADS](*rules, self._small(("u0", ids), u0), self._small(("un", ids), un), total,
                                              *nodes)
-        for g, (stage, _) in enumerate(run):
-            at = slice(where.start + g * slots, where.start + (g + 1) * slots)
-            self._hand(lambda rows, stage=stage: stage.grid_reduced(rows, dt, time, remap), at, stage.node_reduction)
+        self._hand_run(run, where, slots, lambda stage: (lambda rows: stage.grid_reduced(rows, dt, time, remap),
+                                                         stage.node_reduction))
 
     def _grid_pass(self, stage, args, view, dt: float, time: float, remap: bool) -> None:
         cls = type(stage)
@@ -383,14 +386,15 @@ class CudaBackend(Backend):
         first, last = (np.full(d, -FAR_NODE), np.full(d, FAR_NODE)) if box is None else box
         slots = max(stage.node_reduction, 1)
         (out, where), spill = self._pass_slots((id(stage), "grid"), slots), None
-        kern = cuda_loops.node_kernel(cls.node_rule, cls.node_scratch, slots, cls.node_maxima)
+        kern = cuda_loops.node_group_kernel(cls.node_rule, cls.node_scratch, slots, cls.node_maxima)
         v_old = view.g_vel_old if view.g_vel_old is not None else view.g_vel
         f = view.g_force if view.g_force is not None else view.g_vel
         wet = view.g_pore is not None
         pore = view.g_pore if wet else self._dry_node
+        prms = self._small((id(stage), "grid"), np.asarray(prm, np.float64)[None])
         for part, (f_box, l_box, counted) in enumerate(self.domain.node_parts(np.asarray(first), np.asarray(last))):
-            b0 = np.minimum(np.maximum(f_box - view.lo, 0), view.nloc)
-            bn = np.maximum(np.minimum(l_box - view.lo + 1, view.nloc) - b0, 0)
+            b0 = np.minimum(np.maximum(f_box - view.lo, 0), view.nloc).astype(np.int64)
+            bn = np.maximum(np.minimum(l_box - view.lo + 1, view.nloc) - b0, 0).astype(np.int64)
             total = int(np.prod(bn))
             if not total:
                 continue
@@ -398,26 +402,19 @@ class CudaBackend(Backend):
                 spill = self._spill.get(slots)
                 if spill is None:
                     spill = self._spill[slots] = cuda.to_device(np.zeros(slots))
+            # one stage's pass over one part of its box: NODE_GROUP with a group of one (its box the part's)
             kern[K.blocks(total), K.THREADS](
-                self._small((id(stage), "grid"), prm), self._table(stage, "grid", aux), dt,
-                self._origin, self.scene.grid.h, lo, nloc, self._small((id(stage), "b0", part), b0.astype(np.int64)),
-                self._small((id(stage), "bn", part), bn.astype(np.int64)), total, view.g_mass, view.g_vel, v_old,
-                f, pore, wet, out if counted else spill, self.halt())
+                prms, self._table(stage, "grid", aux), dt, self._origin, self.scene.grid.h, lo, nloc,
+                self._small((id(stage), "boxes", part), np.stack([b0, bn])[None]),
+                self._small((id(stage), "u0", part), b0), self._small((id(stage), "un", part), bn), total,
+                view.g_mass, view.g_vel, v_old, f, pore, wet, (out if counted else spill).reshape(1, slots),
+                self.halt())
         self._hand(lambda rows: stage.grid_reduced(rows, dt, time, remap), where, stage.node_reduction)
 
     def particle_stages(self, stages, dt: float, time: float) -> None:
         """Every particle stage in order, the consecutive stages of one class that share their ``aux`` and act on
         the same blocks (the walls of a box) in one launch per block (cuda_loops.GROUP)."""
-        runs: list = []
-        for stage in stages:
-            args = stage.particle_args(dt, time)
-            if args is None:
-                continue
-            if runs and self._joins(runs[-1][-1], (stage, args)):
-                runs[-1].append((stage, args))
-            else:
-                runs.append([(stage, args)])
-        for run in runs:
+        for run in _runs(((s, s.particle_args(dt, time)) for s in stages), self._joins):
             self._particle_pass(run, dt, time)
 
     def _joins(self, a, b) -> bool:
@@ -450,9 +447,8 @@ class CudaBackend(Backend):
             if e > s:
                 kern[K.blocks(e - s), K.THREADS](prms, aux, dt, k, s, e, dev["p_x"], dev["p_x0"], dev["p_v"],
                                                  dev["p_C"], dev["p_mass"], dev["p_stress"], outs, self.halt())
-        for g, (stage, _) in enumerate(run):
-            at = slice(where.start + g * slots, where.start + (g + 1) * slots)
-            self._hand(lambda rows, stage=stage: stage.particle_reduced(rows, dt, time), at, stage.particle_reduction)
+        self._hand_run(run, where, slots, lambda stage: (lambda rows: stage.particle_reduced(rows, dt, time),
+                                                         stage.particle_reduction))
 
     # -- the step's reductions, read once at its end -----------------------------------------------------
     def _pass_slots(self, key, slots: int):
@@ -461,6 +457,13 @@ class CudaBackend(Backend):
         nth = self._passes.get(key, 0)
         self._passes[key] = nth + 1
         return self.tally.slots((key, nth), np.zeros(slots)), self.tally.reserve((key, nth), ())
+
+    def _hand_run(self, run, where: slice, slots: int, reducer) -> None:
+        """Hand each stage of ``run`` its ``slots`` of the tally's ``where``, in order; ``reducer(stage)`` gives the
+        stage's ``*_reduced`` (a function of the rows) and its declared reduction."""
+        for g, (stage, _) in enumerate(run):
+            reduced, declared = reducer(stage)
+            self._hand(reduced, slice(where.start + g * slots, where.start + (g + 1) * slots), declared)
 
     def _hand(self, reduced, where: slice, declared: int) -> None:
         """Hand the tally's ``where`` slots to ``reduced`` (a stage's ``*_reduced``) when the step settles."""

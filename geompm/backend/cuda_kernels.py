@@ -25,7 +25,7 @@ from numba import cuda, float64, int64
 
 from geompm.kernels.held_box import fits
 from geompm.kernels.shape import axis_stencil
-from geompm.kernels.step_end import END_MAXIMA, END_ROW, END_START  # noqa: F401  (the layout, named here)
+from geompm.kernels.step_end import END_MAXIMA, END_ROW, END_START, particle_row  # noqa: F401  (the layout)
 from geompm.kernels.stencil import APIC, FLIP, MLS
 from geompm.kernels.volume import update_volume
 from geompm.backend.cuda_loops import simulated, simulator_call
@@ -42,6 +42,7 @@ def blocks(n: int) -> int:
 #: GPU; the simulator gets them through backend/cuda_loops.simulator_call (array arguments unwrapped)
 _volume = simulator_call(update_volume) if simulated() else update_volume
 _fits = simulator_call(fits) if simulated() else fits
+_particle_row = simulator_call(particle_row) if simulated() else particle_row
 
 
 @cuda.jit(device=True)
@@ -393,33 +394,7 @@ def step_end(p_x, p_x0, p_v, p_rho, p_stress, p_mass, gravity, start, end, row, 
     for q in range(END_ROW):
         acc[t, q] = -math.inf if _end_is_max(q) else 0.0
     if p < end:
-        d = p_x.shape[1]
-        ok = True
-        v2 = 0.0
-        w = 0.0
-        for a in range(d):
-            x = p_x[p, a]
-            if math.isfinite(x):
-                acc[t, a] = -x
-                acc[t, 3 + a] = x
-            else:
-                ok = False
-            acc[t, 6 + a] = x
-            if not math.isfinite(p_v[p, a]):
-                ok = False
-            v2 += p_v[p, a] * p_v[p, a]
-            w += gravity[a] * (x - p_x0[p, a])
-        for k in range(6):
-            if not math.isfinite(p_stress[p, k]):
-                ok = False
-        acc[t, 9] = math.sqrt(v2)
-        acc[t, 10] = -p_rho[p]
-        acc[t, 11] = p_rho[p]
-        if ok:
-            acc[t, 13] = 0.5 * p_mass[p] * v2
-            acc[t, 14] = p_mass[p] * max(w, 0.0)
-        else:
-            acc[t, 12] = 1.0
+        _particle_row(p, p_x, p_x0, p_v, p_rho, p_stress, p_mass, gravity, acc[t])
     cuda.syncthreads()
     stride = THREADS // 2
     while stride > 0:

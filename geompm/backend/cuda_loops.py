@@ -89,35 +89,6 @@ def relaxed_kernel(prm, dt, p_L, p_rho, p_stress, p_state, p_old, r, rate, halt)
     cuda.atomic.max(rate, 0, max(abs(L[0, 0]), max(abs(L[1, 1]), abs(L[2, 2]))))
 '''
 
-NODE = '''
-@cuda.jit
-def node_kernel(prm, aux, dt, origin, h, lo, nloc, b0, bn, total, g_mass, g_vel, g_vel_old, g_force, g_pore, wet,
-                out, halt):
-    if halt[0] != 0.0:
-        return
-    q = cuda.grid(1)
-    if q >= total:
-        return
-    d = g_vel.shape[1]
-    rem = q
-    idx = 0
-    stride = 1
-    for a in range(d - 1, -1, -1):
-        idx += (b0[a] + rem % bn[a]) * stride
-        rem //= bn[a]
-        stride *= nloc[a]
-    m = g_mass[idx]
-    if m <= 0.0:
-        return
-    x = cuda.local.array(3, float64)
-{scratch_and_acc}    rem = idx
-    for a in range(d - 1, -1, -1):
-        x[a] = origin[a] + (lo[a] + rem % nloc[a]) * h
-        rem //= nloc[a]
-    node_rule(prm, aux, dt, x[:d], m, g_vel[idx], g_vel_old[idx], g_force[idx], g_pore[idx if wet else 0],
-              work[:{used}], acc)
-{flush}'''
-
 #: consecutive node-rule stages of one class that share their ``aux`` (the walls of a box) in one pass: a thread per
 #: node of the union of their node boxes (``u0``, ``un``, window-relative), each stage's rule where its own box
 #: (``boxes[g]``: first node and count per axis) holds the node, in stage order (a rule changes only its own node)
@@ -267,23 +238,14 @@ def relaxed_kernel(law):
                                                               "keep": keep_one, "relax": relax_one})
 
 
-def node_kernel(rule, scratch: int, slots: int, maxima=()):
-    """The kernel of NODE around ``rule`` (looked up per pass: cached by its arguments, no source formatted)."""
-    return _node_kernel(rule, scratch, slots, tuple(maxima))
-
-
 def particle_kernel(rule, scratch: int, slots: int, maxima=()):
-    """The kernel of GROUP around ``rule`` (cached as ``node_kernel``)."""
+    """The kernel of GROUP around ``rule`` (looked up per pass: cached by its arguments, no source formatted)."""
     return _particle_kernel(rule, scratch, slots, tuple(maxima))
 
 
-@functools.cache
-def _node_kernel(rule, scratch, slots, maxima):
-    return _kernel("node", "node_kernel", _pass_source(NODE, scratch, slots, maxima), {"node_rule": rule})
-
-
 def node_group_kernel(rule, scratch: int, slots: int, maxima=()):
-    """The kernel of NODE_GROUP around ``rule`` (cached as ``node_kernel``)."""
+    """The kernel of NODE_GROUP around ``rule`` (cached as ``particle_kernel``): a group of stages, or one stage's
+    pass over one part of its node box."""
     return _node_group_kernel(rule, scratch, slots, tuple(maxima))
 
 

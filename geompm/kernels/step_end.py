@@ -26,36 +26,49 @@ SPEED, RHO_MIN, RHO_MAX, BAD = 9, 10, 11, 12
 
 
 @njit(cache=True)
+def particle_row(p, p_x, p_x0, p_v, p_rho, p_stress, p_mass, gravity, row):
+    """Particle p's own END_ROW values written into ``row`` (at END_START): its coordinates where finite, its
+    speed, density and health terms.  The device kernel (backend/cuda_kernels.step_end) and ``end_row`` combine
+    the particles' rows, taking the maximum of the END_MAXIMA slots and the sum of the others."""
+    d = p_x.shape[1]
+    ok = True
+    v2 = 0.0
+    w = 0.0
+    for a in range(d):
+        x = p_x[p, a]
+        if math.isfinite(x):
+            row[a] = -x
+            row[3 + a] = x
+        else:
+            ok = False
+        row[6 + a] = x
+        if not math.isfinite(p_v[p, a]):
+            ok = False
+        v2 += p_v[p, a] * p_v[p, a]
+        w += gravity[a] * (x - p_x0[p, a])
+    for k in range(6):
+        if not math.isfinite(p_stress[p, k]):
+            ok = False
+    row[SPEED] = math.sqrt(v2)
+    row[RHO_MIN] = -p_rho[p]
+    row[RHO_MAX] = p_rho[p]
+    if ok:
+        row[13] = 0.5 * p_mass[p] * v2
+        row[14] = p_mass[p] * max(w, 0.0)
+    else:
+        row[BAD] = 1.0
+
+
+@njit(cache=True)
 def end_row(p_x, p_x0, p_v, p_rho, p_stress, p_mass, gravity, start, end, row):
     """Particles start..end-1 reduced into ``row`` (END_ROW, at END_START), as the device kernel does."""
-    d = p_x.shape[1]
+    one = np.empty(END_ROW)
     for p in range(start, end):
-        ok = True
-        v2 = 0.0
-        w = 0.0
-        for a in range(d):
-            x = p_x[p, a]
-            if math.isfinite(x):
-                row[a] = max(row[a], -x)
-                row[3 + a] = max(row[3 + a], x)
-            else:
-                ok = False
-            row[6 + a] += x
-            if not math.isfinite(p_v[p, a]):
-                ok = False
-            v2 += p_v[p, a] * p_v[p, a]
-            w += gravity[a] * (x - p_x0[p, a])
-        for k in range(6):
-            if not math.isfinite(p_stress[p, k]):
-                ok = False
-        row[SPEED] = max(row[SPEED], math.sqrt(v2))
-        row[RHO_MIN] = max(row[RHO_MIN], -p_rho[p])
-        row[RHO_MAX] = max(row[RHO_MAX], p_rho[p])
-        if ok:
-            row[13] += 0.5 * p_mass[p] * v2
-            row[14] += p_mass[p] * max(w, 0.0)
-        else:
-            row[BAD] += 1.0
+        for q in range(END_ROW):
+            one[q] = -math.inf if (q < 6 or SPEED <= q <= RHO_MAX) else 0.0
+        particle_row(p, p_x, p_x0, p_v, p_rho, p_stress, p_mass, gravity, one)
+        for q in range(END_ROW):
+            row[q] = max(row[q], one[q]) if (q < 6 or SPEED <= q <= RHO_MAX) else row[q] + one[q]
 
 
 def end_rows(state, gravity) -> np.ndarray:
