@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 from geompm.engine import checkpoint
 from geompm.engine.gathered import gathered
-from geompm.errors import SimulationError
+from geompm.errors import CaseError
 from geompm.engine.health import HealthCheck, check_domain
 from geompm.engine.held_step import blockers, widened
 from geompm.engine.scheduler import Simulation
@@ -252,10 +252,10 @@ class Runner:
         self.held = self.sim.scene.held_step
         self.held_steps = self.held_batches = 0
         if self.held is not None:
-            why = blockers(self.sim)
+            why = blockers(self.sim)  # what the case's checks refused already, for a scene made in Python
             if why:
-                raise SimulationError("solver.held_step cannot be used here: " + "; ".join(why) +
-                                      "; remove solver.held_step")
+                raise CaseError([("solver.held_step", "cannot be used here: " + "; ".join(why) +
+                                  "; remove solver.held_step")])
 
     def run(self, until: float | None = None) -> RunSummary:
         sim = self.sim

@@ -46,6 +46,10 @@ def refuse_unsplittable(scene, size: int) -> None:
             problems.append((stage.json_path or stage.label,
                              f"stage '{stage.label}' ({type(stage).name}) sums particles outside its "
                              f"pass, so it cannot run on {size} MPI ranks; run the case in one process"))
+    if scene.held_step is not None:
+        problems.append(("solver.held_step", f"held steps run in one process only (particles move between ranks every "
+                                             f"step); this run was started on {size} MPI ranks: remove "
+                                             "solver.held_step or run the case in one process"))
     if problems:
         raise CaseError(problems)
 

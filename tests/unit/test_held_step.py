@@ -153,10 +153,37 @@ def test_what_a_batch_cannot_carry_is_refused_with_its_path(over, path):
 
 
 def test_a_run_over_several_ranks_is_refused(tmp_path):
-    sim = Simulation(scene_from_dict(impact_case({"steps": 4}), tmp_path))
+    """Before any work on several ranks (parallel/slabs.refuse_unsplittable), and by the runner for a scene whose
+    decomposition is several ranks (engine/held_step.blockers)."""
+    from geompm.parallel.slabs import refuse_unsplittable
+
+    scene = scene_from_dict(impact_case({"steps": 4}), tmp_path)
+    with pytest.raises(CaseError) as err:
+        refuse_unsplittable(scene, 2)
+    assert [p for p, _ in err.value.problems] == ["solver.held_step"]
+    sim = Simulation(scene)
 
     class TwoRanks:
         size = 2
 
     sim.domain = TwoRanks()
     assert any("MPI" in why for why in H.blockers(sim))
+
+
+def test_particles_that_leave_the_grid_end_a_batch_and_are_deleted_as_in_an_ordinary_run(tmp_path):
+    """A block thrown out of the grid at 5 m/s (run.on_leave_domain = delete): the check ends the batch at the
+    step after which particles lie beyond the batch's cells, and the domain check deletes the same 40 particles
+    an ordinary run deletes, within a step of the same time."""
+    out = []
+    for held in (None, {"steps": 10}):
+        case = tiny_case(outputs=[], boundaries=[], gravity=[0.0, 0.0], run={"on_leave_domain": "delete"})
+        case["bodies"][0]["velocity"] = [5.0, 0.0]
+        if held:
+            case["solver"]["held_step"] = held
+        sim = Simulation(scene_from_dict(case, tmp_path))
+        runner = Runner(sim, tmp_path, [], progress=False)
+        summary = runner.run(until=0.15)
+        out.append((runner.deleted, sim.state.n, summary.steps, runner.held_batches))
+    (d0, n0, s0, _), (d1, n1, s1, b1) = out
+    assert d0 == d1 == 40 and n0 == n1 == 24
+    assert b1 < s1 / 3  # batches of several steps, ended where the block left its cells
