@@ -267,7 +267,7 @@ class Runner:
         else:
             self._each_writer(self.writers, lambda w, view: w.open(self.run_dir, view))
         bar = _Progress(sim.time, end, self.progress)
-        step0 = sim.step_count
+        step0 = drawn = sim.step_count
         try:
             self._emit(force=not self.resumed)
             while sim.time < end * (1 - 1e-12):
@@ -277,8 +277,9 @@ class Runner:
                     break
                 self.advance(end)
                 self._emit()
-                if sim.step_count % PROGRESS_EVERY == 0:
+                if sim.step_count - drawn >= PROGRESS_EVERY:  # a held batch takes several steps at once
                     bar.update(sim, sim.step_count - step0, self.t0)
+                    drawn = sim.step_count
                 if self._anywhere(self.stop_reason is not None):
                     self.checkpoint()
                     raise Interrupted(self.stop_reason or "a stop request on another rank")
