@@ -4,7 +4,7 @@
 #                       BUDGET seconds (default SECONDS) from the end of the install; with DRY=1 it installs
 #                       nothing and runs under numba-cuda's simulator (the scripts then shrink their sizes)
 #   step LIMIT CMD ...  runs CMD with a timeout of LIMIT seconds or what is left of the deadline, whichever is
-#                       less, and names it if it is cut, fails or is skipped
+#                       less, names it if it is cut, fails or is skipped, and prints the seconds it took
 gpu_start() {
   date -u
   if [ -n "${DRY:-}" ]; then  # the dry run: this environment's geompm under numba-cuda's simulator
@@ -27,5 +27,7 @@ step() {
   left=$((budget - $(date +%s) + start))
   if [ "$left" -le 5 ]; then echo "skipped, no time left: $*"; return; fi
   [ "$limit" -gt "$left" ] && limit=$left
+  t0=$(date +%s)
   timeout "$limit" "$@" || echo "failed or cut at ${limit} s: $*"
+  echo "[$(($(date +%s) - t0)) s: $*]"
 }

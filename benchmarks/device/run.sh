@@ -27,8 +27,8 @@ here=$(cd "$(dirname "$0")" && pwd)
   # 4-6 minutes on 2 cores, benchmarks/results/2026-12-06-issue59/device-dry-run.log; CI runs it at 4, about
   # 100 s: tests/cuda/test_device_script.py), one timed step, one parity step on a coarse dam break, one tiny
   # parity scene, each limit and the deadline four times longer
-  steps200=200; dam=""; tiny=""
-  [ -n "${DRY:-}" ] && { steps200=1; dam="--set grid.cell_size=0.05"; tiny="elastic_apic_quadratic_usl"; }
+  steps200=200; dam=""; tiny=""; held=20
+  [ -n "${DRY:-}" ] && { steps200=1; dam="--set grid.cell_size=0.05"; tiny="elastic_apic_quadratic_usl"; held=2; }
   bench() {  # timeout, cells per side, precision, timed steps, then scenes and extra options
     limit=$1; n=$2; p=$3; steps=$4; shift 4
     [ -n "${DRY:-}" ] && { n=${DRY_CELLS:-8}; steps=1; }
@@ -41,7 +41,7 @@ here=$(cd "$(dirname "$0")" && pwd)
   done
   for p in float32 float64; do bench 50 128 $p 30 --scene fluid3d --scene dp3d; done
   # the held step (solver.held_step, engine/held_step.py): the host reads the device once a batch of up to 20 steps
-  bench 50 128 float32 40 --scene fluid3d --scene dp3d --set 'solver.held_step={"steps": 20}'
+  bench 50 128 float32 40 --scene fluid3d --scene dp3d --set "solver.held_step={\"steps\": $held}"
   step 70 python3 tests/cuda/cuda_parity.py --steps "$steps200" --case cases/dam_break.json $dam
   for p in float32 float64; do bench 35 64 $p 50 --scene fluid3d --scene dp3d; done
   bench 60 256 float32 10 --scene fluid3d --set solver.p2g=tiled
@@ -51,7 +51,7 @@ here=$(cd "$(dirname "$0")" && pwd)
   step 60 python3 tests/cuda/cuda_parity.py --steps "$steps200" saturated_drucker_prager
   # what each step asks of the host (launches, copies, synchronisations) and its wall time on the device
   if [ -n "${DRY:-}" ]; then step 60 python3 benchmarks/device/count_launches.py --steps 1 dp2d
-    step 60 python3 benchmarks/device/count_launches.py --steps 4 --held 4 dp2d
+    step 60 python3 benchmarks/device/count_launches.py --steps 2 --held 2 --cells 4 dp2d
   else step 60 python3 benchmarks/device/count_launches.py --steps 20 --cells 16
     step 60 python3 benchmarks/device/count_launches.py --steps 40 --cells 16 --held 20 fluid3d dp3d dp2d; fi
   # every law and stage on the GPU against the CPU, with what is left (both sides compile cold here)

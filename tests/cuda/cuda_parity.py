@@ -260,7 +260,7 @@ def sort_check() -> dict:
             "scan_length": int(a.size)}
 
 
-HELD_SCENES = (("elastic_apic_quadratic_usl", 1.0, 8), ("herschel_bulkley_explicit_and_box_guard", 0.9, 12))
+HELD_SCENES = (("elastic_apic_quadratic_usl", 1.0, 5), ("herschel_bulkley_explicit_and_box_guard", 0.9, 8))
 
 
 def held_run(case: dict, backend: str, fraction: float, steps: int, folder: Path):

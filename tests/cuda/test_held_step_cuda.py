@@ -32,9 +32,9 @@ def test_held_steps_on_the_device_are_the_cpus_held_steps():
     out = json.loads(r.stdout.strip().splitlines()[-1])
     ended = out["elastic_apic_quadratic_usl"]
     # fraction 1: the block speeds up under gravity, so each batch's first check fails: one step a batch
-    assert ended["steps_cpu"] == ended["steps_cuda"] == list(range(1, 9)) and ended["batches"] == [8, 8]
+    assert ended["steps_cpu"] == ended["steps_cuda"] == list(range(1, 6)) and ended["batches"] == [5, 5]
     whole = out["herschel_bulkley_explicit_and_box_guard"]
-    assert whole["steps_cpu"] == whole["steps_cuda"] == [4, 8, 12] and whole["batches"] == [3, 3]
+    assert whole["steps_cpu"] == whole["steps_cuda"] == [4, 8] and whole["batches"] == [2, 2]
     assert whole["force_columns"]  # the obstacle's recorded force, handed per step from the batch's tally
     for name in ("elastic_apic_quadratic_usl", "herschel_bulkley_explicit_and_box_guard"):
         row = out[name]
@@ -44,11 +44,11 @@ def test_held_steps_on_the_device_are_the_cpus_held_steps():
 
 @pytest.mark.slow
 def test_a_held_batch_reads_the_device_once():
-    r = subprocess.run([sys.executable, "benchmarks/device/count_launches.py", "--steps", "20", "--held", "10",
-                        "dp2d"], env=SIM, capture_output=True, text=True, cwd=ROOT, timeout=600)
+    r = subprocess.run([sys.executable, "benchmarks/device/count_launches.py", "--steps", "8", "--held", "4",
+                        "--cells", "4", "dp2d"], env=SIM, capture_output=True, text=True, cwd=ROOT, timeout=600)
     assert r.returncode == 0, r.stderr[-2000:]
     row = next(json.loads(line) for line in r.stdout.splitlines() if line.startswith("{"))
-    assert row["steps"] == 20 and row["batches"] == 2
-    # one copy to the host a batch (the tally) and one to the device (the batch's box): 2 blocking per 10 steps
-    assert row["d2h"] == pytest.approx(0.1) and row["blocking"] <= 0.2 + 1e-12, row
+    assert row["steps"] == 8 and row["batches"] == 2
+    # one copy to the host a batch (the tally) and one to the device (the batch's box): 2 blocking per 4 steps
+    assert row["d2h"] == pytest.approx(0.25) and row["blocking"] <= 0.5 + 1e-12, row
     assert row["implicit"] == 0, row
