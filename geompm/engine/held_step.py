@@ -18,11 +18,11 @@ speed |v| below cfl h / dt_h less that wave speed, the rate below STRAIN_INCREME
 within ``margin_cells`` cells of the cells they held at the start (the batch's grid window reaches that far;
 a particle that leaves it, or the grid, ends the batch).  Inside the box the stable step is at least dt_h.
 
-Before each step after the first, ``fits`` (kernels/held_box.py) tests the previous step's end rows against the box (with no
-non-finite particle).  A step that fails it is not taken: the batch ends there, and the host starts the next
-one from that state with a new stable step.  No step exceeds the stable step of the state it starts from.
-On a device the test runs in a one-thread kernel and every later kernel of the batch returns at once once it
-has failed (backend/cuda.py); on the CPU the host tests it, so both take the same steps.
+Before each step after the first, ``fits`` (kernels/held_box.py) tests the previous step's end rows against
+the box (with no non-finite particle).  A step that fails it is not taken: the batch ends there, and the host
+starts the next one from that state with a new stable step.  No step exceeds the stable step of the state it
+starts from.  On a device the test runs in a one-thread kernel and every later kernel of the batch returns at
+once once it has failed (backend/cuda.py); on the CPU the host tests it, so both take the same steps.
 
 What a batch cannot do, the host needs each step: particles added by a source, migrated between MPI ranks, a
 scheme's own reductions of the step (saturated soil's wave speeds), a stage whose parameters are computed
