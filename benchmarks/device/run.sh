@@ -39,18 +39,19 @@ here=$(cd "$(dirname "$0")" && pwd)
     bench 70 256 $p 10 --scene fluid3d
     bench 80 256 $p 10 --scene dp3d
   done
-  for p in float32 float64; do bench 50 128 $p 30 --scene fluid3d --scene dp3d; done
+  # (the dry run runs each command once: at its tiny size a 128- or 64-cell command repeats a 256-cell one)
+  [ -z "${DRY:-}" ] && for p in float32 float64; do bench 50 128 $p 30 --scene fluid3d --scene dp3d; done
   # the held step (solver.held_step, engine/held_step.py): the host reads the device once a batch of up to 20 steps
   bench 50 128 float32 40 --scene fluid3d --scene dp3d --set "solver.held_step={\"steps\": $held}"
   step 70 python3 tests/cuda/cuda_parity.py --steps "$steps200" --case cases/dam_break.json $dam
-  for p in float32 float64; do bench 35 64 $p 50 --scene fluid3d --scene dp3d; done
+  [ -z "${DRY:-}" ] && for p in float32 float64; do bench 35 64 $p 50 --scene fluid3d --scene dp3d; done
   bench 60 256 float32 10 --scene fluid3d --set solver.p2g=tiled
   bench 60 128 float32 30 --scene dp3d --set solver.p2g=tiled
   # saturated soil (schemes/saturated/cuda.py): the bench scene and its CPU parity after 200 steps
   bench 60 64 float64 30 --scene saturated3d --scene dp3d
   step 60 python3 tests/cuda/cuda_parity.py --steps "$steps200" saturated_drucker_prager
   # what each step asks of the host (launches, copies, synchronisations) and its wall time on the device
-  if [ -n "${DRY:-}" ]; then step 60 python3 benchmarks/device/count_launches.py --steps 1 dp2d
+  if [ -n "${DRY:-}" ]; then step 60 python3 benchmarks/device/count_launches.py --steps 1 --cells 4 dp2d
     step 60 python3 benchmarks/device/count_launches.py --steps 2 --held 2 --cells 4 dp2d
   else step 60 python3 benchmarks/device/count_launches.py --steps 20 --cells 16
     step 60 python3 benchmarks/device/count_launches.py --steps 40 --cells 16 --held 20 fluid3d dp3d dp2d; fi
