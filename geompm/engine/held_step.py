@@ -27,7 +27,8 @@ once once it has failed (backend/cuda.py); on the CPU the host tests it, so both
 What a batch cannot do, the host needs each step: particles added by a source, migrated between MPI ranks, a
 scheme's own reductions of the step (saturated soil's wave speeds), a stage whose parameters are computed
 from the particles or from its reductions (``Stage.holds_step``), a water table's or strength trigger's state;
-such scenes are refused with the held step (``blockers``).
+such scenes are refused with the held step before any work (schema/held_step.py; several ranks:
+parallel/slabs.py).
 """
 
 from __future__ import annotations
@@ -51,16 +52,16 @@ def _law_speed(scene, rows, k: int, delta: float) -> float:
     return max(wave(mat.prm, rho_lo / (1.0 + delta)), wave(mat.prm, rho_hi * (1.0 + delta)))
 
 
-def limits(scene, rows, dt_hold: float, cells, margin: int) -> np.ndarray:
+def limits(scene, rows, dt_hold: float, cells) -> np.ndarray:
     """The box (module docstring) within which a step ``dt_hold`` [s] is stable, from the step-end ``rows`` at
-    the batch's start and the particles' lowest and highest ``cells`` (2, d), widened by ``margin`` cells."""
+    the batch's start and the lowest and highest ``cells`` (2, d) its particles may reach (``widened``)."""
     from geompm.backend.timestep import STRAIN_INCREMENT
 
     d, nb, spec = scene.dim, len(scene.materials), scene.grid
     box = np.empty(RHO + 2 * nb)
     box[DIM], box[BLOCKS] = d, nb
     box[X_LO:X_HI], box[X_HI:RHO] = -np.inf, np.inf
-    first, last = widened(cells, margin, spec)
+    first, last = cells
     box[X_LO:X_LO + d] = spec.origin + first * spec.h + 1e-9 * spec.h
     box[X_HI:X_HI + d] = spec.origin + (last + 1) * spec.h - 1e-9 * spec.h
     if scene.dt_fixed is not None:  # a fixed step: only the particles' place and finiteness are checked
@@ -87,22 +88,3 @@ def widened(cells, margin: int, spec):
     """The particles' cells (2, d) widened by ``margin`` cells, within the grid's (the batch's window)."""
     return np.stack([np.maximum(np.asarray(cells[0]) - margin, -1),
                      np.minimum(np.asarray(cells[1]) + margin, spec.ncells)]).astype(np.int64)
-
-
-def blockers(sim) -> list[str]:
-    """Why ``sim`` cannot take held steps (empty when it can): module docstring."""
-    out = []
-    if sim.domain.size > 1:
-        out.append("the run is shared between MPI ranks (particles migrate between them every step)")
-    if sim.sources:
-        out.append("it has particle sources (their particles are added on the host)")
-    if not sim.scene.scheme.holds_step:
-        out.append(f"scheme '{sim.scene.scheme.name}' reduces what its step needs on the host")
-    for what, obj in (("a water table", sim.water), ("a strength trigger", sim.strength)):
-        if not obj.holds_step:
-            out.append(f"it has {what} (its state follows the steps on the host)")
-    for stage in sim.scene.stages:
-        if not stage.holds_step:
-            out.append(f"stage '{getattr(stage, 'label', type(stage).__name__)}' computes its parameters from "
-                       "the particles or from what it reduced")
-    return out

@@ -21,9 +21,8 @@ from dataclasses import dataclass
 
 from geompm.engine import checkpoint
 from geompm.engine.gathered import gathered
-from geompm.errors import CaseError
 from geompm.engine.health import HealthCheck, check_domain
-from geompm.engine.held_step import blockers, widened
+from geompm.engine.held_step import widened
 from geompm.engine.scheduler import Simulation
 
 log = logging.getLogger("geompm")
@@ -223,7 +222,8 @@ class Runner:
         if cells is None:  # no particle here: one ordinary step
             sim.step(self._landing(stable, sim.time, self._target(end))[0])
             return
-        be.hold(limits(sim.scene, be.end_rows(), hold, cells, margin), widened(cells, margin, sim.scene.grid))
+        cells = widened(cells, margin, sim.scene.grid)
+        be.hold(limits(sim.scene, be.end_rows(), hold, cells), cells)
         every, target = sim.scene.sort_interval, self._target(end)
         after = []  # (time, step count, dt) after each step asked for
         try:
@@ -251,11 +251,6 @@ class Runner:
         self.first_dt = self.sim.stable_dt()
         self.held = self.sim.scene.held_step
         self.held_steps = self.held_batches = 0
-        if self.held is not None:
-            why = blockers(self.sim)  # what the case's checks refused already, for a scene made in Python
-            if why:
-                raise CaseError([("solver.held_step", "cannot be used here: " + "; ".join(why) +
-                                  "; remove solver.held_step")])
 
     def run(self, until: float | None = None) -> RunSummary:
         sim = self.sim

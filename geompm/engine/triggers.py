@@ -16,8 +16,6 @@ class StrengthSchedule:
     """F(t) through ``times`` [s] and ``factors`` [-] for the materials ``material_ids`` (scene order);
     made from ``scene.strength_trigger`` (setup/assemble.py)."""
 
-    holds_step = False  # the laws' parameters change between steps (engine/held_step.py)
-
     def __init__(self, times, factors, material_ids):
         self.times = np.asarray(times, float)
         self.factors = np.asarray(factors, float)
@@ -45,8 +43,6 @@ class StrengthSchedule:
 
 class NoStrengthSchedule:
     """A scene without a strength trigger: nothing changes, no series column."""
-
-    holds_step = True
 
     current = 1.0
 

@@ -40,8 +40,6 @@ class WaterTable:
     by ``heights`` [m] at ``times``; ``pond``: (times, levels [m]) of free water outside the soil, level
     along the axis ``up`` (against gravity), its pressure rho_w |g| = ``weight`` [Pa/m] per metre of depth."""
 
-    holds_step = False  # its pressure is laid on the particles on the host (engine/held_step.py)
-
     def __init__(self, times, heights, normal, gradient, acts, surface=None, pond=None, up=None, weight=None,
                  rho_w=1000.0):
         self.times = np.asarray(times, float)
@@ -164,8 +162,6 @@ class WaterTable:
 class NoWaterTable:
     """A scene without a water table (module docstring): it never asks for the particles (on a device backend
     that would bring them to the host every step)."""
-
-    holds_step = True
 
     def load(self, backend, time: float) -> None:
         pass
