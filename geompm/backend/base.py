@@ -8,6 +8,8 @@ differently and add their own passes, ``scheme_passes``):
     p2g(view, f_scale)               mass, momentum, internal force
     grid_update_and_stages(view, dt, stages, time)   momentum balance + gravity, then each grid stage's
                                      node rule or node merge in order (grid_update, grid_stages)
+    g2p_stages_and_stress(view, dt, stages, time, set_velocity)   the three below, one after the other
+                                     (a device backend runs them per particle in one launch per block)
     g2p(view, dt, set_velocity, move, gradient)
     particle_stages(stages, dt, time)          every particle stage's particle rule, in order
     update_stress(dt)                each material block through its law's loop; sets max_rate,
@@ -204,6 +206,14 @@ class Backend:
 
     def update_stress(self, dt: float) -> None:
         raise NotImplementedError
+
+    def g2p_stages_and_stress(self, view, dt: float, stages, time: float, *, set_velocity: bool) -> None:
+        """``g2p`` (positions, gradients and volumes; velocities where ``set_velocity``), ``particle_stages`` and
+        ``update_stress`` (a device backend runs the three on each particle in one launch per material block: G2P
+        reads the grid alone, and a particle rule and a law read and write their own particle)."""
+        self.g2p(view, dt, set_velocity=set_velocity, move=True, gradient=True)
+        self.particle_stages(stages, dt, time)
+        self.update_stress(dt)
 
     #: the scene's scheme's own passes on this backend (schemes/base.Scheme.backend_passes; NO_PASSES when
     #: the scheme runs the core's kernels only): the backend declares them here so a scheme finds them

@@ -133,6 +133,7 @@ class CudaBackend(Backend):
         self._rate_due = False  # a stress update wrote its largest |L_ii| into the tally
         self._moved = 0  # bumped by whatever changes the device particles (their step-end reductions lapse)
         self._end = None  # (the _moved it was taken at, its values by name): settle's step-end reductions
+        self._rows_at = None  # (_moved, step) where a fused particle pass filled the step-end rows in the tally
         self._spill = {}  # slots -> a device sink for the rows of nodes another rank counts
         self._perm = None  # the device sorts' permutations since the host's arrays were last put in order
         #: the scheme's own passes on this backend (schemes/base.Scheme.backend_passes)
@@ -218,6 +219,45 @@ class CudaBackend(Backend):
             self._small("nloc", view.nloc), dt, ratio, sc.apic_dinv, set_velocity, move, gradient, self.halt())
         self._moved += 1
 
+    def g2p_stages_and_stress(self, view, dt: float, stages, time: float, *, set_velocity: bool) -> None:
+        """G2P, the particle stages and each block's law in one launch per material block (cuda_loops.PARTICLE_STEP,
+        the step-end row of the block with them): the passes ``g2p``, ``particle_stages`` and ``update_stress``
+        one after the other, each thread on its own particle."""
+        dev, st, sc, g = self._device(), self.state, self.scene, self.scene.grid
+        if not st.n:
+            super().g2p_stages_and_stress(view, dt, stages, time, set_velocity=set_velocity)
+            return
+        runs = _runs(((s, s.particle_args(dt, time)) for s in stages), self._joins)
+        passes = [self._run_arrays(run) for run in runs]
+        nb = len(st.blocks)
+        where = [self.tally.reserve(key, start) for key, start in ((("rate", self._step), [0.0]), ("halt", [0.0]),
+                                                                     (("end", self._step), np.tile(K.END_START, nb)))]
+        rate, halt, rows = (self.tally.view(w) for w in where)  # views once every slot is reserved
+        g_vel_old = view.g_vel_old if self.split_force else view.g_vel
+        ratio = sc.flip_ratio if sc.flip_tau is None else float(np.exp(-dt / sc.flip_tau))
+        grid = (view.g_vel, g_vel_old, self._origin, g.h, g.kind, self._small("lo", view.lo),
+                self._small("nloc", view.nloc), dt, ratio, sc.apic_dinv, set_velocity)
+        specs = tuple(spec for spec, _, _, _ in passes)
+        for k, (mat, prm, (s, e), sv) in enumerate(zip(sc.materials, self._prm, st.blocks, self._dev_state)):
+            if e <= s:
+                continue
+            relaxed = self._relaxed[k] is not None
+            kern = cuda_loops.particle_step_kernel(type(mat), relaxed, specs,
+                                                   (K.g2p_particle, K.end_start, K.end_add))
+            block = [dev[a][s:e] for a in ("p_x", "p_x0", "p_v", "p_C", "p_L", "p_vol", "p_rho", "p_mass",
+                                            "p_stress")]
+            on = [args + (self.tally.view(w).reshape(len(run), spec[2]), k in blocks)
+                  for run, (spec, args, blocks, w) in zip(runs, passes)]
+            extra = (self._old_rows(k, e - s, sv), dt / sc.viscoplastic_time) if relaxed else ()
+            kern[K.blocks(e - s), K.THREADS](self.S, self.mode, *block, sv, *grid, k, *(a for o in on for a in o),
+                                             prm, *extra, rate, self._gravity,
+                                             rows[k * K.END_ROW:(k + 1) * K.END_ROW], halt)
+        self._moved += 1
+        self._rows_at = (self._moved, self._step)  # the step-end rows are taken (settle launches none)
+        self.max_rate, self._rate_due = None, True
+        for run, (spec, _, _, where) in zip(runs, passes):
+            self._hand_particles(run, where, spec[2], dt, time)
+
     def material_parameters_changed(self) -> None:
         self._prm = [self._small(("material", k), m.prm) for k, m in enumerate(self.scene.materials)]
 
@@ -233,11 +273,16 @@ class CudaBackend(Backend):
             if relaxed is None:
                 law[K.blocks(e - s), K.THREADS](*args, rate, halt)
                 continue
-            old = self._old.get(k)
-            if old is None or old.shape != (e - s, 6 + sv.shape[1]):
-                old = self._old[k] = cuda.device_array((e - s, 6 + sv.shape[1]), np.float64)
-            relaxed[K.blocks(e - s), K.THREADS](*args, old, dt / self.scene.viscoplastic_time, rate, halt)
+            relaxed[K.blocks(e - s), K.THREADS](*args, self._old_rows(k, e - s, sv), dt / self.scene.viscoplastic_time,
+                                                rate, halt)
         self.max_rate, self._rate_due = None, True  # read at the step's end (settle)
+
+    def _old_rows(self, k: int, n: int, sv):
+        """Material block k's scratch rows for the relaxation (its ``n`` particles' stress and state variables)."""
+        old = self._old.get(k)
+        if old is None or old.shape != (n, 6 + sv.shape[1]):
+            old = self._old[k] = cuda.device_array((n, 6 + sv.shape[1]), np.float64)
+        return old
 
     def dt_parts(self):
         sc, st = self.scene, self.state
@@ -432,21 +477,30 @@ class CudaBackend(Backend):
     def _particle_pass(self, run, dt: float, time: float) -> None:
         """One launch per material block for the (stage, (prm, aux)) pairs of ``run``, stages of one class."""
         dev, st = self._device(), self.state
+        spec, (prms, aux), blocks, where = self._run_arrays(run)
+        outs = self.tally.view(where).reshape(len(run), spec[2])
+        kern = cuda_loops.particle_kernel(*spec)
+        self._moved += 1
+        for k in sorted(blocks):
+            s, e = st.blocks[k]
+            if e > s:
+                kern[K.blocks(e - s), K.THREADS](prms, aux, dt, k, s, e, dev["p_x"], dev["p_x0"], dev["p_v"],
+                                                 dev["p_C"], dev["p_mass"], dev["p_stress"], outs, self.halt())
+        self._hand_particles(run, where, spec[2], dt, time)
+
+    def _run_arrays(self, run):
+        """What a launch of the particle-stage ``run`` takes: ((rule, scratch, slots, maxima), (its stages'
+        parameters, its table), the material blocks it acts on, the tally slice of its accumulator rows)."""
         first = run[0][0]
         cls, ids = type(first), tuple(id(s) for s, _ in run)
         prms = self._small(("particle", ids), np.stack([np.asarray(a[0], np.float64) for _, a in run]))
         aux = self._table(first, "particle", run[0][1][1])
         slots = max(first.particle_reduction, 1)
-        outs, where = self._pass_slots((ids, "particle"), slots * len(run))
-        kern = cuda_loops.particle_kernel(cls.particle_rule, max(cls.particle_scratch, 1), slots,
-                                          cls.particle_maxima)
-        outs = outs.reshape(len(run), slots)
-        self._moved += 1
-        for k in first.particle_blocks(len(st.blocks)):
-            s, e = st.blocks[k]
-            if e > s:
-                kern[K.blocks(e - s), K.THREADS](prms, aux, dt, k, s, e, dev["p_x"], dev["p_x0"], dev["p_v"],
-                                                 dev["p_C"], dev["p_mass"], dev["p_stress"], outs, self.halt())
+        _, where = self._pass_slots((ids, "particle"), slots * len(run))
+        spec = (cls.particle_rule, max(cls.particle_scratch, 1), slots, tuple(cls.particle_maxima))
+        return spec, (prms, aux), set(first.particle_blocks(len(self.state.blocks))), where
+
+    def _hand_particles(self, run, where: slice, slots: int, dt: float, time: float) -> None:
         self._hand_run(run, where, slots, lambda stage: (lambda rows: stage.particle_reduced(rows, dt, time),
                                                          stage.particle_reduction))
 
@@ -487,8 +541,9 @@ class CudaBackend(Backend):
         st = self.state
         dev = self._device()
         rows = self.tally.slots(("end", step), np.tile(K.END_START, len(st.blocks)))
+        taken = self._rows_at == (self._moved, step)  # by the particle pass (g2p_stages_and_stress)
         for k, (s, e) in enumerate(st.blocks):
-            if e > s:
+            if e > s and not taken:
                 K.step_end[K.blocks(e - s), K.THREADS](dev["p_x"], dev["p_x0"], dev["p_v"], dev["p_rho"],
                                                        dev["p_stress"], dev["p_mass"], self._gravity, s, e,
                                                        rows[k * K.END_ROW:(k + 1) * K.END_ROW], self.halt())
@@ -517,6 +572,7 @@ class CudaBackend(Backend):
         |L_ii| and (``ended``) the step-end values of the last of them kept."""
         values = self.tally.read()
         self.tally.reset()
+        self._rows_at = None
         steps = int(values[self.tally.where("halt")][0]) or launched
         handed, self._handed, self._passes = self._handed, [], {}
         last = steps - 1

@@ -28,10 +28,7 @@ from geompm.kernels.shape import axis_stencil
 from geompm.kernels.step_end import END_MAXIMA, END_ROW, END_START, particle_row  # noqa: F401  (the layout)
 from geompm.kernels.stencil import APIC, FLIP, MLS
 from geompm.kernels.volume import update_volume
-from geompm.backend.cuda_loops import simulated, simulator_call
-
-#: threads per block of every launch (the simulator runs each thread as a Python thread: fewer there)
-THREADS = 32 if simulated() else 128
+from geompm.backend.cuda_loops import THREADS, simulated, simulator_call  # noqa: F401  (THREADS: every launch's)
 
 
 def blocks(n: int) -> int:
@@ -255,14 +252,21 @@ def p2g_tiled(S, mode, p_x, p_v, p_C, p_mass, p_vol, p_stress, origin, h, kind, 
 @cuda.jit
 def g2p(S, mode, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old, origin, h, kind, lo, nloc, dt,
         flip_ratio, dinv, set_velocity, move, do_gradient, halt):
-    """v_pic = sum w v_i; L = sum v_i (x) grad w (MLS: L = C); APIC/MLS C = sum w v_i (x_i - x_p)^T D^-1
-    (linear APIC: C = L); FLIP: v = r (v + sum w (v_i - v_old_i)) + (1 - r) v_pic; x += dt v_pic;
-    V <- V det(I + dt L), rho = m / V."""
+    """``g2p_particle`` on every particle."""
     if halt[0] != 0.0:  # a held batch ended before this step (engine/held_step.py)
         return
     p = cuda.grid(1)
-    if p >= p_x.shape[0]:
-        return
+    if p < p_x.shape[0]:
+        g2p_particle(p, S, mode, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old, origin, h, kind, lo,
+                     nloc, dt, flip_ratio, dinv, set_velocity, move, do_gradient)
+
+
+@cuda.jit(device=True)
+def g2p_particle(p, S, mode, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old, origin, h, kind, lo, nloc,
+                 dt, flip_ratio, dinv, set_velocity, move, do_gradient):
+    """Particle p from the grid: v_pic = sum w v_i; L = sum v_i (x) grad w (MLS: L = C); APIC/MLS
+    C = sum w v_i (x_i - x_p)^T D^-1 (linear APIC: C = L); FLIP: v = r (v + sum w (v_i - v_old_i)) + (1 - r) v_pic;
+    x += dt v_pic; V <- V det(I + dt L), rho = m / V.  Also the first act of cuda_loops.PARTICLE_STEP."""
     d = p_x.shape[1]
     w = cuda.local.array((3, 4), float64)
     dw = cuda.local.array((3, 4), float64)
@@ -391,10 +395,23 @@ def step_end(p_x, p_x0, p_v, p_rho, p_stress, p_mass, gravity, start, end, row, 
     t = cuda.threadIdx.x
     p = start + cuda.grid(1)
     acc = cuda.shared.array((THREADS, END_ROW), float64)
-    for q in range(END_ROW):
-        acc[t, q] = -math.inf if _end_is_max(q) else 0.0
+    end_start(acc, t)
     if p < end:
         _particle_row(p, p_x, p_x0, p_v, p_rho, p_stress, p_mass, gravity, acc[t])
+    end_add(acc, t, row)
+
+
+@cuda.jit(device=True)
+def end_start(acc, t):
+    """Thread t's row of the thread block's shared ``acc`` (THREADS, END_ROW) at END_START."""
+    for q in range(END_ROW):
+        acc[t, q] = -math.inf if _end_is_max(q) else 0.0
+
+
+@cuda.jit(device=True)
+def end_add(acc, t, row):
+    """The thread block's rows of ``acc`` reduced in shared memory and added into ``row`` with one atomic per
+    quantity (maxima by atomic max); every thread of the block calls it (it synchronises them)."""
     cuda.syncthreads()
     stride = THREADS // 2
     while stride > 0:

@@ -31,14 +31,21 @@ from __future__ import annotations
 import functools
 import math
 import os
+import re
 
 from numba import cuda, float64, int64, njit
+
+from geompm.kernels.step_end import END_ROW
 
 _CACHE: dict = {}
 
 
 def simulated() -> bool:
     return os.environ.get("NUMBA_ENABLE_CUDASIM", "0") not in ("", "0")
+
+
+#: threads per block of every launch (the simulator runs each thread as a Python thread: fewer there)
+THREADS = 32 if simulated() else 128
 
 
 def simulator_call(fn):
@@ -172,6 +179,51 @@ def group_kernel(prms, aux, dt, k, start, end, p_x, p_x0, p_v, p_C, p_mass, p_st
         out = outs[g]
 {flush}'''
 
+#: G2P, the particle stages' rules and the law on one material block's particles (every array the block's slice),
+#: a thread per particle, then the block's step-end row: G2P reads the grid alone, a particle rule changes its own
+#: particle, the law reads and writes its own, so this is the passes ``g2p``, ``particle_stages`` and
+#: ``update_stress`` and the step-end reduction one after the other.  ``{runs}``: each run of particle stages of one
+#: class (GROUP's body, ``on<r>`` whether it acts on this block); ``{law}``: the law's call (LAW's or RELAXED's).
+#: No thread returns before the step-end row: its reduction synchronises the thread block.
+PARTICLE_STEP = '''
+@cuda.jit
+def particle_step_kernel(S, mode, p_x, p_x0, p_v, p_C, p_L, p_vol, p_rho, p_mass, p_stress, p_state, g_vel, g_vel_old,
+                         origin, h, kind, lo, nloc, dt, flip_ratio, dinv, set_velocity, k, {run_args}prm, {law_args}rate,
+                         gravity, row, halt):
+    if halt[0] != 0.0:
+        return
+    t = cuda.threadIdx.x
+    p = cuda.grid(1)
+    ends = cuda.shared.array((THREADS, END_ROW), float64)
+    end_start(ends, t)
+{locals}    if p < p_x.shape[0]:
+        g2p_particle(p, S, mode, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old, origin, h, kind, lo, nloc,
+                     dt, flip_ratio, dinv, set_velocity, True, True)
+{runs}        L = p_L[p]
+{law}        cuda.atomic.max(rate, 0, max(abs(L[0, 0]), max(abs(L[1, 1]), abs(L[2, 2]))))
+        particle_row(p, p_x, p_x0, p_v, p_rho, p_stress, p_mass, gravity, ends[t])
+    end_add(ends, t, row)
+'''
+
+#: one run of PARTICLE_STEP, its names (RUN_NAMES) suffixed by the run's place; its scratch and accumulator are
+#: ACCUMULATOR's, made in ``{locals}``
+RUN_NAMES = ("particle_rule", "prms", "aux", "outs", "on", "work", "acc", "out")
+STEP_RUN = '''        if on:
+            for g in range(prms.shape[0]):
+                for r in range({slots}):
+                    acc[r] = 0.0
+                particle_rule(prms[g], aux, dt, k, p_x[p], p_x0[p], p_v[p], p_C[p], p_mass[p], p_stress[p],
+                              work[:{used}], acc)
+                out = outs[g]
+{flush}'''
+
+STEP_LAW = '''        law_stress(prm, dt, p_L[p], p_rho[p], p_stress[p], p_state[p])
+'''
+STEP_RELAXED = '''        keep(p_stress[p], p_state[p], p_old[p])
+        law_stress(prm, dt, p_L[p], p_rho[p], p_stress[p], p_state[p])
+        relax(p_stress[p], p_state[p], p_old[p], law_predictor(prm, dt, p_L[p], p_rho[p], p_old[p]), relax_r)
+'''
+
 EACH = '''
 @cuda.jit
 def each_kernel(n, {args}):
@@ -217,7 +269,8 @@ def _pass_source(template: str, scratch: int, slots: int, maxima, indent: str = 
 def _kernel(kind: str, name: str, source: str, functions: dict):
     key = (kind, source, tuple(functions.items()))
     if key not in _CACHE:
-        namespace = {"cuda": cuda, "float64": float64, "int64": int64, "math": math,
+        namespace = {"cuda": cuda, "float64": float64, "int64": int64, "math": math, "THREADS": THREADS,
+                     "END_ROW": END_ROW,
                      "__geompm_recipe__": {"kind": kind, "name": name, "source": source, "functions": functions}}
         namespace.update({alias: _device(fn) for alias, fn in functions.items()})
         exec(source, namespace)
@@ -268,6 +321,36 @@ def update_group_kernel(rule, scratch: int, slots: int, maxima, update):
 def _particle_kernel(rule, scratch, slots, maxima):
     return _kernel("particle", "group_kernel", _pass_source(GROUP, scratch, slots, maxima, "    "),
                    {"particle_rule": rule})
+
+
+@functools.cache
+def particle_step_kernel(law, relaxed: bool, runs: tuple, kernels: tuple):
+    """The kernel of PARTICLE_STEP for material law ``law`` (Duvaut-Lions regularised where ``relaxed``) and the
+    particle-stage ``runs`` ((rule, scratch, slots, maxima) each, in order); ``kernels`` are cuda_kernels'
+    (g2p_particle, end_start, end_add), handed in as ``update_group_kernel``'s ``update``."""
+    from geompm.kernels.step_end import particle_row
+    from geompm.kernels.viscoplastic import keep_one, relax_one
+
+    g2p, start, add = kernels
+    functions = {"law_stress": law.particle_stress, "g2p_particle": g2p, "end_start": start, "end_add": add,
+                 "particle_row": particle_row}
+    local, body, args = "", "", ""
+    for r, (rule, scratch, slots, maxima) in enumerate(runs):
+        one = (_pass_source("{scratch_and_acc}", scratch, slots, maxima),
+               _pass_source(STEP_RUN, scratch, slots, maxima, "        "))
+        one = [re.sub(rf"\b({'|'.join(RUN_NAMES)})\b", rf"\g<1>{r}", part) for part in one]
+        local, body = local + one[0], body + one[1]
+        args += "".join(f"{name}{r}, " for name in ("prms", "aux", "outs", "on"))
+        functions[f"particle_rule{r}"] = rule
+    law_args, law_source = "", STEP_LAW
+    if relaxed:
+        law_args, law_source = "p_old, relax_r, ", STEP_RELAXED
+        functions.update(law_predictor=law.elastic_predictor, keep=keep_one, relax=relax_one)
+    source = PARTICLE_STEP
+    for key, text in (("{locals}", local), ("{runs}", body), ("{law}", law_source), ("{run_args}", args),
+                      ("{law_args}", law_args)):
+        source = source.replace(key, text)
+    return _kernel("particle_step", "particle_step_kernel", source, functions)
 
 
 @functools.cache

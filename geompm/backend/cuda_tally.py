@@ -61,6 +61,11 @@ class DeviceTally:
         s = self.reserve(key, start)
         return self._buf[s.start:s.stop]
 
+    def view(self, where: slice):
+        """The device view of the slots ``where`` (a slice ``reserve`` gave): taken after every key a launch needs is
+        reserved, since a new key moves the array."""
+        return self._buf[where.start:where.stop]
+
     def read(self) -> np.ndarray:
         """Every slot on the host: one copy, which waits for the device to finish what was launched before."""
         return self._buf.copy_to_host() if self._buf is not None else np.zeros(0)

@@ -23,7 +23,7 @@ passes) gives each backend an object of them through ``backend_passes``; a schem
 ``StepContext`` holds what a step's passes need of the run, defined here so that the engine imports the
 schemes and never the reverse: the backend, the run's decomposition (``domain``), the stages by kind, the
 time and the step count, the step's grid window (``view``) and the helpers every explicit step shares
-(``window``, ``halo``, ``grid_stages_run``, ``advance``).
+(``window``, ``halo``, ``grid_stages_run``, ``advance``, ``tick``).
 The engine's ``Simulation`` is a ``StepContext``.
 """
 
@@ -192,6 +192,17 @@ class Scheme:
         """Each material block's law on its particles, then the clock."""
         run.advance(run.view, dt)
 
+    def g2p_stages_and_stress_update(self, run, dt: float) -> None:
+        """``g2p``, ``particle_stages`` and ``stress_update`` (a device backend runs the three on each particle in
+        one launch per material block: G2P reads the grid alone, a particle rule and a law their own particle;
+        the strength trigger, a function of the time alone, sets the laws' parameters first)."""
+        self._particle_step(run, dt, True)
+
+    def _particle_step(self, run, dt: float, set_velocity: bool) -> None:
+        run.strength_changes()
+        run.backend.g2p_stages_and_stress(run.view, dt, run.particle_stages, run.time, set_velocity=set_velocity)
+        run.tick(run.view, dt)
+
     def wave_speed(self, scene, state, finite_only: bool = False, comm=None) -> float:
         """Largest wave speed [m/s] that bounds the step: each material block's law speed (``finite_only``:
         the blocks whose densities are finite, for a blown-up run's diagnosis).  A law's speed is monotone in
@@ -289,6 +300,10 @@ class StepContext:
         """The stress update of every material block, then the clock."""
         self.strength_changes()
         self.backend.update_stress(dt)
+        self.tick(view, dt)
+
+    def tick(self, view, dt: float) -> None:
+        """The clock, after the step's stress update."""
         self.view = view
         self.dt = dt
         self.time += dt

@@ -17,7 +17,7 @@ class Musl(Scheme):
     name = "musl"
     description = "modified update stress last (Sulsky, Zhou & Schreyer 1995): velocities re-mapped before the gradient"
     passes = ("window", "load", "p2g", "grid_update_and_stages", "g2p_velocity", "remap", "grid_stages_remapped",
-              "g2p_move", "particle_stages", "stress_update")
+              "g2p_move_stages_and_stress_update")
 
     def g2p_velocity(self, run, dt: float) -> None:
         """The particles' velocities from the updated grid, nothing moved yet."""
@@ -37,3 +37,8 @@ class Musl(Scheme):
     def g2p_move(self, run, dt: float) -> None:
         """Positions, velocity gradients and volumes from the re-mapped velocities."""
         run.backend.g2p(run.view, dt, set_velocity=False, move=True, gradient=True)
+
+    def g2p_move_stages_and_stress_update(self, run, dt: float) -> None:
+        """``g2p_move``, ``particle_stages`` and ``stress_update`` (one launch per material block on a device
+        backend: ``g2p_stages_and_stress_update``)."""
+        self._particle_step(run, dt, False)

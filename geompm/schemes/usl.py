@@ -18,4 +18,4 @@ class Usl(Scheme):
     name = "usl"
     description = "update stress last (Sulsky, Chen & Schreyer 1994): the default explicit step"
     default = True
-    passes = ("window", "load", "p2g", "grid_update_and_stages", "g2p", "particle_stages", "stress_update")
+    passes = ("window", "load", "p2g", "grid_update_and_stages", "g2p_stages_and_stress_update")

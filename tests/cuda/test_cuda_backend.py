@@ -92,6 +92,7 @@ def simulated_parity(tmp_path_factory):
 
 @pytest.mark.slow
 @pytest.mark.run_last
+@pytest.mark.xdist_group("cuda_parity")  # one worker runs the parity fixture for both
 @pytest.mark.skipif(not HAS_NUMBA_CUDA, reason="numba-cuda is not installed (pip install 'geompm[cuda]')")
 def test_cuda_backend_matches_the_cpu_on_every_law_and_stage_under_the_simulator(simulated_parity):
     rows = list(simulated_parity[0])
@@ -164,6 +165,7 @@ def cuda_functions() -> dict:
 
 @pytest.mark.slow
 @pytest.mark.run_last
+@pytest.mark.xdist_group("cuda_parity")  # one worker runs the parity fixture for both
 @pytest.mark.skipif(not HAS_NUMBA_CUDA, reason="numba-cuda is not installed (pip install 'geompm[cuda]')")
 @pytest.mark.skipif(not has_nvvm(), reason="NVVM/NVRTC not installed (the test extra's cuda-toolkit wheels)")
 def test_every_kernel_compiles_for_an_h200_without_a_gpu(simulated_parity):
