@@ -29,6 +29,7 @@
   simulator), a plugin that does not declare the cuda backend.
 """
 
+import fcntl
 import json
 import os
 import re
@@ -78,21 +79,30 @@ def two_parts(args: list, env: dict, record: Path | None = None) -> list[tuple[i
 
 
 @pytest.fixture(scope="module")
-def simulated_parity(tmp_path_factory):
+def simulated_parity(tmp_path_factory, request):
     """tests/cuda/cuda_parity.py's tiny scenes and checks under the simulator, in two processes: their JSON rows
-    (the checks first, from the last part) and the files of kernel launches they recorded."""
-    folder = tmp_path_factory.mktemp("launches")
-    runs = two_parts([str(ROOT / "tests" / "cuda" / "cuda_parity.py"), "--steps", "3"],
-                     dict(os.environ, NUMBA_ENABLE_CUDASIM="1"), record=folder)
-    for code, _, err in runs:
-        assert code == 0, err[-3000:]
-    lines = runs[1][1].splitlines() + runs[0][1].splitlines()
-    return [json.loads(line) for line in lines if line.startswith("{")], sorted(folder.glob("launches-*.json"))
+    (the checks first, from the last part) and the files of kernel launches they recorded.  Run once per test
+    session: under pytest-xdist the first worker to ask runs them (on both cores) and the other reads its rows,
+    in the session's shared temporary folder, instead of running them again beside it."""
+    worker = getattr(request.config, "workerinput", None)
+    shared = tmp_path_factory.getbasetemp()
+    shared = shared.parent if worker is not None else shared  # the xdist workers' common folder
+    folder, rows = shared / "cuda-parity-launches", shared / "cuda-parity-rows.json"
+    with open(shared / "cuda-parity.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file closes
+        if not rows.exists():
+            folder.mkdir(exist_ok=True)
+            runs = two_parts([str(ROOT / "tests" / "cuda" / "cuda_parity.py"), "--steps", "3"],
+                             dict(os.environ, NUMBA_ENABLE_CUDASIM="1"), record=folder)
+            for code, _, err in runs:
+                assert code == 0, err[-3000:]
+            lines = runs[1][1].splitlines() + runs[0][1].splitlines()
+            rows.write_text(json.dumps([json.loads(line) for line in lines if line.startswith("{")]))
+    return json.loads(rows.read_text()), sorted(folder.glob("launches-*.json"))
 
 
 @pytest.mark.slow
 @pytest.mark.run_last
-@pytest.mark.xdist_group("cuda_parity")  # one worker runs the parity fixture for both
 @pytest.mark.skipif(not HAS_NUMBA_CUDA, reason="numba-cuda is not installed (pip install 'geompm[cuda]')")
 def test_cuda_backend_matches_the_cpu_on_every_law_and_stage_under_the_simulator(simulated_parity):
     rows = list(simulated_parity[0])
@@ -165,7 +175,6 @@ def cuda_functions() -> dict:
 
 @pytest.mark.slow
 @pytest.mark.run_last
-@pytest.mark.xdist_group("cuda_parity")  # one worker runs the parity fixture for both
 @pytest.mark.skipif(not HAS_NUMBA_CUDA, reason="numba-cuda is not installed (pip install 'geompm[cuda]')")
 @pytest.mark.skipif(not has_nvvm(), reason="NVVM/NVRTC not installed (the test extra's cuda-toolkit wheels)")
 def test_every_kernel_compiles_for_an_h200_without_a_gpu(simulated_parity):
