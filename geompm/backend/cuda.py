@@ -51,6 +51,8 @@ from geompm.backend.base import Backend, mass_floor, relaxed_materials
 
 #: the particle arrays that live on the device (and the scheme's own: its passes' ``device_arrays``)
 DEVICE_ARRAYS = ("p_x", "p_x0", "p_v", "p_C", "p_mass", "p_vol", "p_rho", "p_stress", "p_L")
+#: the particle arrays of a material block that cuda_loops.PARTICLE_STEP takes, in its order
+BLOCK_ARRAYS = ("p_x", "p_x0", "p_v", "p_C", "p_L", "p_vol", "p_rho", "p_mass", "p_stress")
 
 
 def _runs(pairs, joins) -> list:
@@ -123,6 +125,7 @@ class CudaBackend(Backend):
         self._dev_state: list = []
         self._tables: dict = {}  # (stage, pass) -> (its aux on the host, the device copy)
         self._smalls: dict = {}  # key -> (a small array's values when uploaded, the device copy): _small
+        self._blocks: dict = {}  # (start, end) -> (the device arrays, their views of the block): _block
         self._on_host = True  # the host arrays are current; the next kernel uploads them
         #: every reduction of a step, read by the host once at its end (settle; backend/cuda_tally.py)
         self.tally = DeviceTally()
@@ -134,6 +137,7 @@ class CudaBackend(Backend):
         self._moved = 0  # bumped by whatever changes the device particles (their step-end reductions lapse)
         self._end = None  # (the _moved it was taken at, its values by name): settle's step-end reductions
         self._rows_at = None  # (_moved, step) where a fused particle pass filled the step-end rows in the tally
+        self._end_rows0 = None  # _end_start's array
         self._spill = {}  # slots -> a device sink for the rows of nodes another rank counts
         self._perm = None  # the device sorts' permutations since the host's arrays were last put in order
         #: the scheme's own passes on this backend (schemes/base.Scheme.backend_passes)
@@ -229,9 +233,8 @@ class CudaBackend(Backend):
             return
         runs = _runs(((s, s.particle_args(dt, time)) for s in stages), self._joins)
         passes = [self._run_arrays(run) for run in runs]
-        nb = len(st.blocks)
         where = [self.tally.reserve(key, start) for key, start in ((("rate", self._step), [0.0]), ("halt", [0.0]),
-                                                                     (("end", self._step), np.tile(K.END_START, nb)))]
+                                                                     (("end", self._step), self._end_start()))]
         rate, halt, rows = (self.tally.view(w) for w in where)  # views once every slot is reserved
         g_vel_old = view.g_vel_old if self.split_force else view.g_vel
         ratio = sc.flip_ratio if sc.flip_tau is None else float(np.exp(-dt / sc.flip_tau))
@@ -244,8 +247,7 @@ class CudaBackend(Backend):
             relaxed = self._relaxed[k] is not None
             kern = cuda_loops.particle_step_kernel(type(mat), relaxed, specs,
                                                    (K.g2p_particle, K.end_start, K.end_add))
-            block = [dev[a][s:e] for a in ("p_x", "p_x0", "p_v", "p_C", "p_L", "p_vol", "p_rho", "p_mass",
-                                            "p_stress")]
+            block = self._block(dev, s, e)
             on = [args + (self.tally.view(w).reshape(len(run), spec[2]), k in blocks)
                   for run, (spec, args, blocks, w) in zip(runs, passes)]
             extra = (self._old_rows(k, e - s, sv), dt / sc.viscoplastic_time) if relaxed else ()
@@ -333,10 +335,19 @@ class CudaBackend(Backend):
         again only when its values change: a wall's parameters are the same every step, a moving obstacle's
         shift changes its copy (compared value by value, a few dozen numbers)."""
         host = np.ascontiguousarray(host)
+        values = (host.shape, host.dtype.str, host.tobytes())  # bytes: a tenth of np.array_equal's time here
         held = self._smalls.get(key)
-        if held is None or held[0].shape != host.shape or held[0].dtype != host.dtype or \
-                not np.array_equal(held[0], host):
-            held = self._smalls[key] = (host.copy(), cuda.to_device(host))
+        if held is None or held[0] != values:
+            held = self._smalls[key] = (values, cuda.to_device(host))
+        return held[1]
+
+    def _block(self, dev, s: int, e: int) -> list:
+        """The arrays of BLOCK_ARRAYS for particles s..e-1, as device views made again only where an array was
+        replaced (an upload, a sort): the views of the last call are kept with the arrays they were cut from."""
+        whole = [dev[a] for a in BLOCK_ARRAYS]
+        held = self._blocks.get((s, e))
+        if held is None or any(a is not b for a, b in zip(held[0], whole)):
+            held = self._blocks[(s, e)] = (whole, [a[s:e] for a in whole])
         return held[1]
 
     def grid_stage(self, stage, view, dt: float, time: float, remap: bool) -> None:
@@ -536,11 +547,17 @@ class CudaBackend(Backend):
         """The tally's halt slot (the device view every kernel of a step is handed: engine/held_step.py)."""
         return self.tally.slots("halt", [0.0])
 
+    def _end_start(self):
+        """The step-end rows' starting values, END_START for each material block (made once)."""
+        if self._end_rows0 is None:
+            self._end_rows0 = np.tile(K.END_START, len(self.state.blocks))
+        return self._end_rows0
+
     def _step_end(self, step: int) -> None:
         """The step-end reductions of the particles into the tally slots of ``step`` (one launch per block)."""
         st = self.state
         dev = self._device()
-        rows = self.tally.slots(("end", step), np.tile(K.END_START, len(st.blocks)))
+        rows = self.tally.slots(("end", step), self._end_start())
         taken = self._rows_at == (self._moved, step)  # by the particle pass (g2p_stages_and_stress)
         for k, (s, e) in enumerate(st.blocks):
             if e > s and not taken:
