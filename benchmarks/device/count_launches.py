@@ -39,6 +39,8 @@ def main(argv=None) -> int:
     ap.add_argument("--steps", type=int, default=3)
     ap.add_argument("--cells", type=int, default=8, help="cells per side of the bench scenes (default 8)")
     ap.add_argument("--sites", action="store_true", help="also list each copy's and launch's calling line")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="sets",
+                    help="override in every scene (solver.particle_pass=separate)")
     ap.add_argument("--held", type=int, default=0, help="solver.held_step.steps: hold the step for up to this "
                     "many steps (engine/held_step.py); default: every step the stable one")
     args = ap.parse_args(argv)
@@ -70,7 +72,7 @@ def main(argv=None) -> int:
         if args.held:
             raw["solver"]["held_step"] = {"steps": args.held}
         try:
-            scene = scene_from_dict(raw, base, sets)
+            scene = scene_from_dict(raw, base, sets + args.sets)
         except CaseError as exc:  # a scene that refuses held steps (the saturated scheme): the reason, not a count
             print(f"{name:<32}refused: {exc.problems[0][0]}: {exc.problems[0][1]}", flush=True)
             continue

@@ -47,6 +47,8 @@ here=$(cd "$(dirname "$0")" && pwd)
   [ -z "${DRY:-}" ] && for p in float32 float64; do bench 35 64 $p 50 --scene fluid3d --scene dp3d; done
   bench 60 256 float32 10 --scene fluid3d --set solver.p2g=tiled
   bench 60 128 float32 30 --scene dp3d --set solver.p2g=tiled
+  # G2P, the particle stages and the law as three kernels (solver.particle_pass): against the 128-cell rows above
+  bench 50 128 float32 30 --scene fluid3d --scene dp3d --set solver.particle_pass=separate
   # saturated soil (schemes/saturated/cuda.py): the bench scene and its CPU parity after 200 steps
   bench 60 64 float64 30 --scene saturated3d --scene dp3d
   step 60 python3 tests/cuda/cuda_parity.py --steps "$steps200" saturated_drucker_prager

@@ -228,7 +228,7 @@ class CudaBackend(Backend):
         the step-end row of the block with them): the passes ``g2p``, ``particle_stages`` and ``update_stress``
         one after the other, each thread on its own particle."""
         dev, st, sc, g = self._device(), self.state, self.scene, self.scene.grid
-        if not st.n:
+        if not st.n or sc.particle_pass == "separate":  # solver.particle_pass: a kernel each
             super().g2p_stages_and_stress(view, dt, stages, time, set_velocity=set_velocity)
             return
         runs = _runs(((s, s.particle_args(dt, time)) for s in stages), self._joins)

@@ -132,6 +132,12 @@ class SolverSpec(Strict):
         "then one atomic per node; pays where many particles of a block share nodes, i.e. once sorted by "
         "cell). Results differ at round-off only; which is faster depends on the GPU (geompm bench --set "
         "solver.p2g=tiled; docs/performance.md)")
+    particle_pass: Literal["joined", "separate"] = Field(
+        "joined", description="Backend 'cuda' only: how a dry scheme's G2P, particle stages and stress update "
+        "run: 'joined' (one kernel per material block takes each particle through all three and its step-end "
+        "reduction: fewer launches, more registers a thread) or 'separate' (a kernel each). Results differ at "
+        "round-off only; which is faster depends on the GPU and the scene (geompm bench --set "
+        "solver.particle_pass=separate; docs/performance.md)")
     precision: Literal["float64", "float32"] = Field(
         "float64", description="Floating-point width of the particle and grid arrays: 'float64', or "
         "'float32' (half the bytes per particle, for the GPU's bandwidth; the kernels still compute in "

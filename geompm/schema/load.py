@@ -424,6 +424,9 @@ def ineffective_settings(raw: dict, case: Case) -> list[tuple[str, str]]:
     if "p2g" in solver and case.solver.backend != "cuda":
         out.append(("solver.p2g", f"applies to solver.backend 'cuda' only (backend is '{case.solver.backend}': "
                                   "the CPU adds into private grids per thread); remove it"))
+    if "particle_pass" in solver and case.solver.backend != "cuda":
+        out.append(("solver.particle_pass", f"applies to solver.backend 'cuda' only (backend is "
+                                            f"'{case.solver.backend}': the CPU runs the passes apart); remove it"))
     if "pore_pressure_smoothing" in solver and all(m.pore_water is None for m in case.materials.values()):
         out.append(("solver.pore_pressure_smoothing", "applies to saturated materials only (none has 'pore_water'); "
                                                       "remove it"))

@@ -56,6 +56,7 @@ class Scene:
     rebalance_interval: int = 100  # solver.rebalance_interval: steps between two MPI rebalancings; 0 never
     precision: str = "float64"  # solver.precision: the particle and grid arrays' dtype
     p2g: str = "atomic"  # solver.p2g: the cuda backend's P2G kernel
+    particle_pass: str = "joined"  # solver.particle_pass: the cuda backend's G2P, particle stages and law
     #: solver.held_step as (steps, fraction, margin cells), or None: every step the stable one (engine/held_step.py)
     held_step: tuple | None = None
     dt_min: float = 1e-9
@@ -261,6 +262,7 @@ def assemble(loaded: LoadedCase) -> Scene:
         backend=case.solver.backend, sort_interval=case.solver.sort_interval,
         rebalance_interval=case.solver.rebalance_interval, precision=case.solver.precision,
         p2g=case.solver.p2g,
+        particle_pass=case.solver.particle_pass,
         held_step=None if case.solver.held_step is None else (
             case.solver.held_step.steps, case.solver.held_step.fraction, case.solver.held_step.margin_cells),
         flip_tau=case.solver.flip_relaxation_time,

@@ -140,6 +140,9 @@ def scenes(folder: Path) -> dict:
         "drucker_prager_2d_float32": case2d(law("drucker_prager"), {"precision": "float32"}, velocity=[2.0, 0.0]),
         # the first scene again through the tiled P2G: the CPU side is compiled once (same part, see --part)
         "elastic_apic_quadratic_usl_tiled_p2g": case2d(law("linear_elastic"), {"p2g": "tiled"}, velocity=[1.0, 0.0]),
+        # and through G2P, the walls' particle rules and the law as three kernels (solver.particle_pass)
+        "elastic_apic_quadratic_usl_particle_pass_separate": case2d(law("linear_elastic"), {"particle_pass": "separate"},
+                                                                    velocity=[1.0, 0.0]),
         "elastic_apic_quadratic_usl_tiled_p2g_float32": case2d(law("linear_elastic"), {"p2g": "tiled",
                                                                                      "precision": "float32"},
                                                              velocity=[1.0, 0.0]),

@@ -30,7 +30,7 @@ def test_the_device_script_runs_every_step_under_the_simulator(tmp_path):
         assert word not in log, log[-3000:]
     rows = [json.loads(line) for line in log.splitlines() if line.startswith("{")]
     bench = [row for row in rows if "particle_steps_per_s" in row]
-    assert len(bench) == 10, [row.get("scene") for row in bench]
+    assert len(bench) == 12, [row.get("scene") for row in bench]
     held = [row for row in bench if any(s.startswith("solver.held_step") for s in row["sets"])]
     assert len(held) == 2 and all(row["held_batches"] >= 1 for row in held)
     assert all(row["particles"] > 0 and (row["steps"] == 1 or row in held) for row in bench)
@@ -38,6 +38,7 @@ def test_the_device_script_runs_every_step_under_the_simulator(tmp_path):
     assert {("fluid3d", "float32"), ("fluid3d", "float64"), ("dp3d", "float32"), ("dp3d", "float64"),
             ("saturated3d", "float64")} <= asked
     assert sum("solver.p2g=tiled" in row["sets"] for row in bench) == 2
+    assert sum("solver.particle_pass=separate" in row["sets"] for row in bench) == 2
     parity = [row for row in rows if "fields" in row]
     assert {row["scene"] for row in parity} >= {"dam_break", "saturated_drucker_prager"}
     for row in parity:

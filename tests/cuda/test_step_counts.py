@@ -76,3 +76,14 @@ def test_an_ordinary_step_keeps_the_particles_on_the_device():
         # launches (eight before the particle pass was joined), and the sort's where it sorts
         assert row["implicit"] == 0, (name, row)
         assert row["launches"] == (5 if name != "drucker_prager_cylinder_sorted" else 23), (name, row)
+
+
+def test_the_particle_pass_apart_takes_three_launches_more():
+    """solver.particle_pass "separate": G2P, the walls' particle rules and the law a kernel each, and the step-end
+    reduction its own launch: 8 launches a step on dp2d instead of 5, still one blocking copy."""
+    r = subprocess.run([sys.executable, "benchmarks/device/count_launches.py", "--steps", "2", "--cells", "4", "dp2d",
+                        "--set", "solver.particle_pass=separate"], env=SIM, capture_output=True, text=True, cwd=ROOT,
+                       timeout=600)
+    assert r.returncode == 0, r.stderr[-2000:]
+    row = next(json.loads(line) for line in r.stdout.splitlines() if line.startswith("{"))
+    assert row["launches"] == 8 and row["blocking"] == 1 and row["h2d"] == 0, row

@@ -51,9 +51,14 @@ def _tiled_p2g_on_cpu(c):
     c["solver"]["p2g"] = "tiled"
 
 
+def _particle_pass_on_cpu(c):
+    c["solver"]["particle_pass"] = "separate"
+
+
 @pytest.mark.parametrize("mutate,path", [
     (_flip_ratio, "solver.flip_ratio"),
     (_tiled_p2g_on_cpu, "solver.p2g"),
+    (_particle_pass_on_cpu, "solver.particle_pass"),
     (_cfl_with_dt, "time.cfl"),
     (_extrude_2d, "bodies.0.geometry.extrude"),
     (_cylinder_axis_2d, "obstacles.0.axis"),
