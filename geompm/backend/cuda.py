@@ -118,6 +118,7 @@ class CudaBackend(Backend):
         self._prm = [cuda.to_device(m.prm) for m in scene.materials]
         self._laws = [cuda_loops.stress_kernel(type(m)) for m in scene.materials]
         #: per material: the regularised kernel where solver.viscoplastic_time applies to its law, else None
+        self._joined = scene.particle_pass == "joined"  # solver.particle_pass; "separate": a kernel each
         self._relaxed = [cuda_loops.relaxed_kernel(type(m)) if on else None
                          for m, on in zip(scene.materials, relaxed_materials(scene))]
         self._old: dict = {}  # per material block: the relaxation's scratch rows on the device
@@ -228,7 +229,7 @@ class CudaBackend(Backend):
         the step-end row of the block with them): the passes ``g2p``, ``particle_stages`` and ``update_stress``
         one after the other, each thread on its own particle."""
         dev, st, sc, g = self._device(), self.state, self.scene, self.scene.grid
-        if not st.n or sc.particle_pass == "separate":  # solver.particle_pass: a kernel each
+        if not st.n or not self._joined:
             super().g2p_stages_and_stress(view, dt, stages, time, set_velocity=set_velocity)
             return
         runs = _runs(((s, s.particle_args(dt, time)) for s in stages), self._joins)
@@ -241,6 +242,8 @@ class CudaBackend(Backend):
         grid = (view.g_vel, g_vel_old, self._origin, g.h, g.kind, self._small("lo", view.lo),
                 self._small("nloc", view.nloc), dt, ratio, sc.apic_dinv, set_velocity)
         specs = tuple(spec for spec, _, _, _ in passes)
+        outs = [args + (self.tally.view(w).reshape(len(run), spec[2]),)
+                for run, (spec, args, _, w) in zip(runs, passes)]
         for k, (mat, prm, (s, e), sv) in enumerate(zip(sc.materials, self._prm, st.blocks, self._dev_state)):
             if e <= s:
                 continue
@@ -248,8 +251,7 @@ class CudaBackend(Backend):
             kern = cuda_loops.particle_step_kernel(type(mat), relaxed, specs,
                                                    (K.g2p_particle, K.end_start, K.end_add))
             block = self._block(dev, s, e)
-            on = [args + (self.tally.view(w).reshape(len(run), spec[2]), k in blocks)
-                  for run, (spec, args, blocks, w) in zip(runs, passes)]
+            on = [arrays + (k in blocks,) for arrays, (_, _, blocks, _) in zip(outs, passes)]
             extra = (self._old_rows(k, e - s, sv), dt / sc.viscoplastic_time) if relaxed else ()
             kern[K.blocks(e - s), K.THREADS](self.S, self.mode, *block, sv, *grid, k, *(a for o in on for a in o),
                                              prm, *extra, rate, self._gravity,
