@@ -3,7 +3,7 @@ handed to kernels (implicit round trips), copies each way, synchronisations, per
 (coarsened for the simulator), the softening scenes, the saturated one and a scene that sorts its particles every
 step (an obstacle with its guard).
 
-    NUMBA_ENABLE_CUDASIM=1 python benchmarks/device/count_launches.py [--steps 3] [--cells 8] [--held N] [SCENE ...]
+    NUMBA_ENABLE_CUDASIM=1 python benchmarks/device/count_launches.py [--steps 3] [--cells 8] [--held N] [--replay] [SCENE ...]
     python benchmarks/device/count_launches.py ...      (on a GPU: the same counts, the real host time)
 
 Each step is taken as `geompm run` takes it: the time step, the step, the health and domain checks.  Prints one
@@ -41,6 +41,8 @@ def main(argv=None) -> int:
     ap.add_argument("--sites", action="store_true", help="also list each copy's and launch's calling line")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="sets",
                     help="override in every scene (solver.particle_pass=separate)")
+    ap.add_argument("--replay", action="store_true", help="also compare each step's launches with the previous "
+                    "step's (geompm/bench/cuda_replay.py): could the step be replayed as a CUDA graph")
     ap.add_argument("--held", type=int, default=0, help="solver.held_step.steps: hold the step for up to this "
                     "many steps (engine/held_step.py); default: every step the stable one")
     args = ap.parse_args(argv)
@@ -79,12 +81,21 @@ def main(argv=None) -> int:
         sim = Simulation(scene)
         sim.distribute()
         sites = Counter() if args.sites else None
-        r = step_counts(sim, args.steps, sites)
+        reasons = Counter() if args.replay else None
+        r = step_counts(sim, args.steps, sites, reasons)
         print(f"{name:<32}{scene.state.n:>10}" + "".join(f"{r[k]:>10.1f}" for k in KINDS)
               + f"{1e3 * r['wall_per_step']:>10.1f}{1e3 * r['host_per_step']:>10.2f}{r['steps']:>7}{r['batches']:>8}")
         print(json.dumps({"scene": name, "particles": scene.state.n, **r}), flush=True)
         for (what, where), k in sorted((sites or {}).items(), key=lambda kv: -kv[1]):
             print(f"    {k / args.steps:6.1f} per step  {what:<14} {where}")
+        if reasons is not None:
+            pairs = max(r["batches"] or r["steps"], 2) - 1
+            unit = "batch" if r["batches"] else "step"
+            for key, what in (("previous", f"the previous {unit}"), ("two_back", f"the {unit} before that")):
+                if r["replay"][key] is not None:
+                    print(f"    against {what}: " + ", ".join(f"{k} {v:.1f}" for k, v in r["replay"][key].items()))
+            for (kernel, name, kind), k in sorted(reasons.items(), key=lambda kv: (-kv[1], kv[0])):
+                print(f"    {k / pairs:6.1f} per {unit:<5} {kind:<8} {kernel}: {name}")
     return 0
 
 

@@ -46,6 +46,7 @@ from geompm.kernels.stencil import SCHEMES
 from geompm.contract.stages import DRY_NODE, FAR_NODE
 from geompm.backend import cuda_kernels as K
 from geompm.backend import cuda_loops, cuda_sort
+from geompm.backend.cuda_scratch import Scratch
 from geompm.backend.cuda_tally import DeviceTally
 from geompm.backend.base import Backend, mass_floor, relaxed_materials
 
@@ -115,7 +116,6 @@ class CudaBackend(Backend):
         self._origin = cuda.to_device(np.ascontiguousarray(g.origin, dtype=np.float64))
         self._gravity = cuda.to_device(np.ascontiguousarray(scene.gravity, dtype=np.float64))
         self._dry_node = cuda.to_device(DRY_NODE)  # every node of a dry scene: friction on the total stress
-        self._prm = [cuda.to_device(m.prm) for m in scene.materials]
         self._laws = [cuda_loops.stress_kernel(type(m)) for m in scene.materials]
         #: per material: the regularised kernel where solver.viscoplastic_time applies to its law, else None
         self._joined = scene.particle_pass == "joined"  # solver.particle_pass; "separate": a kernel each
@@ -126,6 +126,7 @@ class CudaBackend(Backend):
         self._dev_state: list = []
         self._tables: dict = {}  # (stage, pass) -> (its aux on the host, the device copy)
         self._smalls: dict = {}  # key -> (a small array's values when uploaded, the device copy): _small
+        self.material_parameters_changed()  # self._prm: each law's parameters on the device
         self._blocks: dict = {}  # (start, end) -> (the device arrays, their views of the block): _block
         self._on_host = True  # the host arrays are current; the next kernel uploads them
         #: every reduction of a step, read by the host once at its end (settle; backend/cuda_tally.py)
@@ -141,6 +142,7 @@ class CudaBackend(Backend):
         self._end_rows0 = None  # _end_start's array
         self._spill = {}  # slots -> a device sink for the rows of nodes another rank counts
         self._perm = None  # the device sorts' permutations since the host's arrays were last put in order
+        self._scratch = Scratch()  # the sort's work arrays and each sorted array's spare (backend/cuda_scratch.py)
         #: the scheme's own passes on this backend (schemes/base.Scheme.backend_passes)
         self.scheme_passes = scene.scheme.backend_passes(self)
         self.device_arrays = DEVICE_ARRAYS + self.scheme_passes.device_arrays
@@ -170,7 +172,7 @@ class CudaBackend(Backend):
         return self.state
 
     def nbytes(self) -> int:
-        return self.state.nbytes() + self.buffers.nbytes() + self.scheme_passes.nbytes()
+        return self.state.nbytes() + self.buffers.nbytes() + self.scheme_passes.nbytes() + self._scratch.nbytes()
 
     # -- the step ---------------------------------------------------------------------------------------
     def window(self):
@@ -316,11 +318,15 @@ class CudaBackend(Backend):
             return
         cells = self._end_now()["block_cells"]  # each block's cell range from the step-end bounds: no copy
         dev = self._device()
-        perm = cuda_sort.cell_order(dev["p_x"], self._origin, self.scene.grid.h, st.blocks, cells, self._small)
+        room, first = self._scratch, self._perm is None  # the first since the host read: perm is the composition
+        perm = cuda_sort.cell_order(dev["p_x"], self._origin, self.scene.grid.h, st.blocks, cells, self._small, room,
+                                    room.spare("perm", (st.n,), np.int64) if first else None)
         for k in self.device_arrays:
-            dev[k] = cuda_sort.gather(dev[k], perm)
-        self._dev_state = [cuda_sort.gather(sv, perm[s:e], s) for sv, (s, e) in zip(self._dev_state, st.blocks)]
-        self._perm = perm if self._perm is None else cuda_sort.gather(self._perm, perm)
+            dev[k] = cuda_sort.gather(dev[k], perm, 0, room.spare(k, dev[k].shape, dev[k].dtype, dev[k]))
+        self._dev_state = [cuda_sort.gather(sv, perm[s:e], s, room.spare(("state", b), sv.shape, sv.dtype, sv))
+                           for b, (sv, (s, e)) in enumerate(zip(self._dev_state, st.blocks))]
+        self._perm = perm if first else cuda_sort.gather(self._perm, perm, 0,
+                                                          room.spare("perm", (st.n,), np.int64, self._perm))
 
     # -- stages ------------------------------------------------------------------------------------------
     def _table(self, stage, kind: str, aux):
@@ -339,9 +345,14 @@ class CudaBackend(Backend):
         host = np.ascontiguousarray(host)
         values = (host.shape, host.dtype.str, host.tobytes())  # bytes: a tenth of np.array_equal's time here
         held = self._smalls.get(key)
-        if held is None or held[0] != values:
+        if held is not None and held[0] == values:
+            return held[1]
+        if held is not None and held[0][:2] == values[:2]:
+            held[1].copy_to_device(host)  # in place: the kernels launched before it read the old values first
+            self._smalls[key] = (values, held[1])  # (stream order), and the array keeps its device pointer
+        else:
             held = self._smalls[key] = (values, cuda.to_device(host))
-        return held[1]
+        return self._smalls[key][1]
 
     def _block(self, dev, s: int, e: int) -> list:
         """The arrays of BLOCK_ARRAYS for particles s..e-1, as device views made again only where an array was

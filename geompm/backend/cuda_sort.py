@@ -97,13 +97,17 @@ def add_block_offsets(a, sums):
         a[i] += sums[b - 1]
 
 
-def scan(a) -> None:
-    """Inclusive prefix sum of the int64 device array a, in place."""
+def _fresh(key, shape, dtype):
+    return cuda.device_array(shape, dtype=dtype)
+
+
+def scan(a, space=_fresh, level: int = 0) -> None:
+    """Inclusive prefix sum of the int64 device array a, in place (``space``: cell_order's)."""
     nb = (a.shape[0] + SCAN - 1) // SCAN
-    sums = cuda.device_array(nb, dtype=np.int64)
+    sums = space(("scan", level), nb, np.int64)
     scan_block[nb, SCAN](a, sums)
     if nb > 1:
-        scan(sums)
+        scan(sums, space, level + 1)
         add_block_offsets[nb, SCAN](a, sums)
 
 
@@ -144,20 +148,21 @@ def _sent(key, values):
     return cuda.to_device(values)
 
 
-def cell_order(p_x, origin, h: float, block_list, extents=None, send=_sent):
+def cell_order(p_x, origin, h: float, block_list, extents=None, send=_sent, space=_fresh, perm=None):
     """Device int64 permutation of all n particles: perm[k] is the particle that goes to row k
-    (kernels/sort.cell_order on each block of ``block_list``, equal to it row for row).  ``extents``: per block
-    its (lowest, highest) cell per axis ((d,) int64 each) where the caller knows them, else None (found here, one
-    copy to the host per block); ``send(key, array)``: a small array on the device (the CUDA backend's copy,
-    sent again only when its values change)."""
+    (kernels/sort.cell_order on each block of ``block_list``, equal to it row for row), written into ``perm``
+    where given.  ``extents``: per block its (lowest, highest) cell per axis ((d,) int64 each) where the caller
+    knows them, else None (found here, one copy to the host per block); ``send(key, array)``: a small array on
+    the device (the CUDA backend's copy, sent again only when its values change); ``space(key, shape, dtype)``:
+    a work array (the CUDA backend's are kept from sort to sort: backend/cuda_scratch.py; by default new)."""
     n, d = p_x.shape
-    perm = cuda.device_array(n, dtype=np.int64)
+    perm = space("perm", n, np.int64) if perm is None else perm
     inv_h = 1.0 / h
     for k, (start, end) in enumerate(block_list):
         m = end - start
         if m == 0:
             continue
-        cells = cuda.device_array((m, d), dtype=np.int64)
+        cells = space("cells", (m, d), np.int64)  # one block after the other: the stream orders their uses
         known = extents[k] if extents is not None else None
         if known is None:
             lohi = cuda.to_device(np.array([[_BIG] * d, [-_BIG - 1] * d], dtype=np.int64))
@@ -165,18 +170,18 @@ def cell_order(p_x, origin, h: float, block_list, extents=None, send=_sent):
             lo, hi = lohi.copy_to_host()
         else:  # the cells only: the bounds' atomics go to scratch that nothing reads
             lo, hi = known
-            cell_bounds[blocks(m), THREADS](p_x, origin, inv_h, start, end, cells, cuda.device_array((2, d), np.int64))
+            cell_bounds[blocks(m), THREADS](p_x, origin, inv_h, start, end, cells, space("lohi", (2, d), np.int64))
         stride = np.empty(d, dtype=np.int64)
         total = 1
         for a in range(d - 1, -1, -1):
             stride[a] = total
             total *= int(hi[a] - lo[a] + 1)
-        key = cuda.device_array(m, dtype=np.int64)
-        count = cuda.device_array(total + 1, dtype=np.int64)
+        key = space("key", m, np.int64)
+        count = space("count", total + 1, np.int64)
         zero_counts[blocks(total + 1), THREADS](count)
         cell_count[blocks(m), THREADS](cells, send(("sort_lo", k), np.asarray(lo, np.int64)),
                                        send(("sort_stride", k), stride), key, count)
-        scan(count)
+        scan(count, space)
         scatter[blocks(m), THREADS](key, count, start, perm)
         order_cells[blocks(total), THREADS](count, start, perm)
     return perm
@@ -193,10 +198,11 @@ def gather_rows(src, perm, offset, dst):
         dst[k, c] = src[q, c]
 
 
-def gather(src, perm, offset: int = 0):
-    """A new device array: src's rows in the order perm (less offset), any shape with rows first."""
+def gather(src, perm, offset: int = 0, dst=None):
+    """src's rows in the order perm (less offset), any shape with rows first, into ``dst`` (src's shape and type,
+    another array) or a new device array."""
     rows = src.shape[0]
-    dst = cuda.device_array(src.shape, dtype=src.dtype)
+    dst = cuda.device_array(src.shape, dtype=src.dtype) if dst is None else dst
     cols = int(np.prod(src.shape[1:], dtype=np.int64)) if src.ndim > 1 else 1
     if rows and cols:
         gather_rows[blocks(rows), THREADS](src.reshape(rows, cols), perm, offset, dst.reshape(rows, cols))

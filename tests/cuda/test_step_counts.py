@@ -39,13 +39,32 @@ def double(a):
     if i < a.shape[0]:
         a[i] = twice(a[i])
 
-with counting() as c:
+@cuda.jit
+def scale(a, f):
+    i = cuda.grid(1)
+    if i < a.shape[0]:
+        a[i] *= f
+
+from geompm.bench.cuda_replay import compare
+steps = [[], []]
+with counting(launches=steps[0]) as c:
     d = cuda.to_device(np.arange(4.0))
     double[1, 4](d)
     double[1, 4](np.arange(4.0))
     out = d.copy_to_host()
     cuda.synchronize()
-print({k: c[k] for k in ("launches", "implicit", "h2d", "d2h", "syncs", "blocking")}, out.tolist())
+e = cuda.device_array(4)
+with counting(launches=steps[1]):
+    double[1, 4](d)
+    double[1, 4](d)
+    scale[1, 4](d, 0.5)
+third = []  # the same three launches: another array in the second, another scalar in the third
+with counting(launches=third):
+    double[1, 4](d)
+    double[1, 4](e)
+    scale[1, 4](d, 0.25)
+print({k: c[k] for k in ("launches", "implicit", "h2d", "d2h", "syncs", "blocking", "allocs")}, out.tolist())
+print(compare(steps[1], third), compare(steps[0], steps[1]))
 """
 
 
@@ -53,16 +72,30 @@ def test_the_counter_sees_launches_copies_and_synchronisations():
     """Two launches (the device function inside is none), one numpy argument (an implicit round trip, whose copy
     back numba makes through the same call: two copies to the host), one explicit copy each way, one
     synchronisation; all four copies and the synchronisation but the implicit one's copy to the device (made
-    inside the launch) make the host wait: four blocking."""
+    inside the launch) make the host wait: four blocking; one device array made (the explicit copy's).
+    The launches as a graph would see them (geompm/bench/cuda_replay.py): three launches against the same three
+    with another device array in the second and another scalar in the third: one identical, one array, one
+    scalar, the same kernels and grids; against a first block that handed a host array and launched one kernel
+    fewer: one host array (never capturable), the third launch new (an array: another graph)."""
     r = subprocess.run([sys.executable, "-c", PROBE], env=SIM, capture_output=True, text=True, cwd=ROOT, timeout=300)
     assert r.returncode == 0, r.stderr[-2000:]
-    counts, out = r.stdout.strip().rsplit(" [", 1)
-    assert eval(counts) == {"launches": 2, "implicit": 1, "h2d": 1, "d2h": 2, "syncs": 1, "blocking": 4}
+    first, second = r.stdout.strip().splitlines()
+    counts, out = first.rsplit(" [", 1)
+    assert eval(counts) == {"launches": 2, "implicit": 1, "h2d": 1, "d2h": 2, "syncs": 1, "blocking": 4, "allocs": 1}
     assert out == "0.0, 2.0, 4.0, 6.0]"
+    same, changed = second.split("} {")
+    assert eval(same + "}") == {"identical": 1, "scalars": 1, "arrays": 1, "host": 0, "same_topology": 1}
+    assert eval("{" + changed) == {"identical": 1, "scalars": 0, "arrays": 1, "host": 1, "same_topology": 0}
 
 
 def test_an_ordinary_step_keeps_the_particles_on_the_device():
-    r = subprocess.run([sys.executable, "benchmarks/device/count_launches.py", "--steps", "2", "dp2d",
+    """Also what a CUDA graph of a step would need (bench/cuda_replay.py, ``--replay``): no device array made in an
+    ordinary step (a law's parameters changed by the strength trigger are copied into their array, the sort
+    gathers into spares kept from sort to sort: backend/cuda_scratch.py), the same kernels on the same grids as
+    the step before, and as arguments only the step's dt (or dt in place of the force's scale, f_scale) changed:
+    in the grid update, P2G and the particle pass; where the particles are sorted every step, their arrays
+    alternate with their spares, so the step equals the one two steps back in all but dt."""
+    r = subprocess.run([sys.executable, "benchmarks/device/count_launches.py", "--steps", "3", "--replay", "dp2d",
                         "drucker_prager_softening_2d", "drucker_prager_cylinder_sorted"], env=SIM, capture_output=True,
                        text=True, cwd=ROOT, timeout=600)
     assert r.returncode == 0, r.stderr[-2000:]
@@ -76,6 +109,13 @@ def test_an_ordinary_step_keeps_the_particles_on_the_device():
         # launches (eight before the particle pass was joined), and the sort's where it sorts
         assert row["implicit"] == 0, (name, row)
         assert row["launches"] == (5 if name != "drucker_prager_cylinder_sorted" else 23), (name, row)
+        assert row["allocs"] == 0, (name, row)  # a new array each step before (the trigger's parameters, the sort)
+        sorted_ = name == "drucker_prager_cylinder_sorted"
+        same = row["replay"]["two_back" if sorted_ else "previous"]
+        assert same["same_topology"] == 1 and same["arrays"] == 0 and same["host"] == 0, (name, row)
+        assert same["scalars"] == (4 if sorted_ else 3), (name, row)  # dt: the update, P2G, the particle pass
+        if sorted_:  # the obstacle's node group takes dt too; every sorted array and the sort's input alternate
+            assert row["replay"]["previous"]["arrays"] >= 12, row
 
 
 def test_the_particle_pass_apart_takes_three_launches_more():

@@ -12,11 +12,11 @@ import pytest
 from geompm.testing.verification.mpi_scenes import BOUND
 from geompm.testing.verification import mpi_runs as mpi
 
-#: a Drucker-Prager block thrown along a friction floor against a slip wall: 352 particles, 4 ms (8 of them cross
-#: the cut between the two slabs; 44 s on two cores for both runs under the simulator)
+#: a Drucker-Prager block thrown along a friction floor against a slip wall: 88 particles, 8 ms in 6 steps (4 of them
+#: cross the cut between the two slabs; 16 s on two cores for both runs under the simulator, 47 s with 352 particles)
 CASE = {"name": "cuda_ranks", "dimension": 2,
-        "grid": {"origin": [0.0, 0.0], "extent": [1.6, 0.5], "cell_size": 0.05, "shape_function": "quadratic"},
-        "time": {"end": 0.004, "cfl": 0.4}, "gravity": [0.0, -9.81],
+        "grid": {"origin": [0.0, 0.0], "extent": [1.6, 0.5], "cell_size": 0.1, "shape_function": "quadratic"},
+        "time": {"end": 0.008, "cfl": 0.4}, "gravity": [0.0, -9.81],
         "solver": {"transfer": "apic", "backend": "cuda"},
         "materials": {"soil": {"model": "drucker_prager", "density": 2000.0, "youngs_modulus": 1.0e6,
                                "poisson_ratio": 0.3, "friction_angle": 30.0, "cohesion": 0.0,
