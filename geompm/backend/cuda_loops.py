@@ -67,33 +67,28 @@ def _device(fn):
     return simulator_call(fn) if simulated() else fn
 
 
+#: a law's update of particle ``p`` (velocity gradient ``L``): its ``particle_stress`` (LAW_CALL), or that regularised
+#: by a relaxation time (RELAXED_CALL: kernels/viscoplastic.py; cpu_loops.RELAXED), ``relax_r`` = dt / t_relax
+LAW_CALL = '''law_stress(prm, dt, L, p_rho[p], p_stress[p], p_state[p])
+'''
+RELAXED_CALL = '''keep(p_stress[p], p_state[p], p_old[p])
+law_stress(prm, dt, L, p_rho[p], p_stress[p], p_state[p])
+relax(p_stress[p], p_state[p], p_old[p], law_predictor(prm, dt, L, p_rho[p], p_old[p]), relax_r)
+'''
+#: the arguments RELAXED_CALL takes beyond LAW_CALL's
+RELAXED_ARGS = "p_old, relax_r, "
+
+#: a law's stress kernel, a thread per particle of one material block, with the largest |L_ii|
 LAW = '''
 @cuda.jit
-def stress_kernel(prm, dt, p_L, p_rho, p_stress, p_state, rate, halt):
+def {name}(prm, dt, p_L, p_rho, p_stress, p_state, {law_args}rate, halt):
     if halt[0] != 0.0:
         return
     p = cuda.grid(1)
     if p >= p_L.shape[0]:
         return
     L = p_L[p]
-    law_stress(prm, dt, L, p_rho[p], p_stress[p], p_state[p])
-    cuda.atomic.max(rate, 0, max(abs(L[0, 0]), max(abs(L[1, 1]), abs(L[2, 2]))))
-'''
-
-#: the law's stress kernel regularised by a relaxation time (kernels/viscoplastic.py; cpu_loops.RELAXED)
-RELAXED = '''
-@cuda.jit
-def relaxed_kernel(prm, dt, p_L, p_rho, p_stress, p_state, p_old, r, rate, halt):
-    if halt[0] != 0.0:
-        return
-    p = cuda.grid(1)
-    if p >= p_L.shape[0]:
-        return
-    L = p_L[p]
-    keep(p_stress[p], p_state[p], p_old[p])
-    law_stress(prm, dt, L, p_rho[p], p_stress[p], p_state[p])
-    relax(p_stress[p], p_state[p], p_old[p], law_predictor(prm, dt, L, p_rho[p], p_old[p]), r)
-    cuda.atomic.max(rate, 0, max(abs(L[0, 0]), max(abs(L[1, 1]), abs(L[2, 2]))))
+{law}    cuda.atomic.max(rate, 0, max(abs(L[0, 0]), max(abs(L[1, 1]), abs(L[2, 2]))))
 '''
 
 #: consecutive node-rule stages of one class that share their ``aux`` (the walls of a box) in one pass: a thread per
@@ -159,10 +154,17 @@ GROUP_RULES = '''    m = g_mass[idx]
             out = outs[g]
 {flush}'''
 
-#: a particle rule's pass over the particles start..end of one block, for one stage or for consecutive stages of one
-#: class that share their ``aux`` (the walls of a box): each thread runs the rule of every stage on its particle in
-#: stage order, each stage's parameters a row of ``prms`` and its accumulator a row of ``outs`` (a rule changes only
-#: its own particle, so this is the stages' passes one after the other)
+#: the rules of one run of particle stages of one class that share their ``aux`` (the walls of a box) on particle
+#: ``p``: each stage's rule in stage order, each stage's parameters a row of ``prms`` and its accumulator a row of
+#: ``outs`` (a rule changes only its own particle, so this is the stages' passes one after the other)
+RULES = '''for g in range(prms.shape[0]):
+    for r in range({slots}):
+        acc[r] = 0.0
+    particle_rule(prms[g], aux, dt, k, p_x[p], p_x0[p], p_v[p], p_C[p], p_mass[p], p_stress[p], work[:{used}], acc)
+    out = outs[g]
+{flush}'''
+
+#: a particle rule's pass (RULES) over the particles start..end of one block, a thread per particle
 GROUP = '''
 @cuda.jit
 def group_kernel(prms, aux, dt, k, start, end, p_x, p_x0, p_v, p_C, p_mass, p_stress, outs, halt):
@@ -171,19 +173,13 @@ def group_kernel(prms, aux, dt, k, start, end, p_x, p_x0, p_v, p_C, p_mass, p_st
     p = start + cuda.grid(1)
     if p >= end:
         return
-{scratch_and_acc}    for g in range(prms.shape[0]):
-        for r in range({slots}):
-            acc[r] = 0.0
-        particle_rule(prms[g], aux, dt, k, p_x[p], p_x0[p], p_v[p], p_C[p], p_mass[p], p_stress[p], work[:{used}],
-                      acc)
-        out = outs[g]
-{flush}'''
+{scratch_and_acc}{rules}'''
 
 #: G2P, the particle stages' rules and the law on one material block's particles (every array the block's slice),
 #: a thread per particle, then the block's step-end row: G2P reads the grid alone, a particle rule changes its own
 #: particle, the law reads and writes its own, so this is the passes ``g2p``, ``particle_stages`` and
 #: ``update_stress`` and the step-end reduction one after the other.  ``{runs}``: each run of particle stages of one
-#: class (GROUP's body, ``on<r>`` whether it acts on this block); ``{law}``: the law's call (LAW's or RELAXED's).
+#: class (RULES, ``on<r>`` whether it acts on this block); ``{law}``: LAW_CALL or RELAXED_CALL.
 #: No thread returns before the step-end row: its reduction synchronises the thread block.
 PARTICLE_STEP = '''
 @cuda.jit
@@ -199,30 +195,15 @@ def particle_step_kernel(S, mode, p_x, p_x0, p_v, p_C, p_L, p_vol, p_rho, p_mass
 {locals}    if p < p_x.shape[0]:
         g2p_particle(p, S, mode, p_x, p_v, p_C, p_L, p_vol, p_rho, p_mass, g_vel, g_vel_old, origin, h, kind, lo, nloc,
                      dt, flip_ratio, dinv, set_velocity, True, True)
-{runs}        L = p_L[p]
-{law}        cuda.atomic.max(rate, 0, max(abs(L[0, 0]), max(abs(L[1, 1]), abs(L[2, 2]))))
+        L = p_L[p]
+{runs}{law}        cuda.atomic.max(rate, 0, max(abs(L[0, 0]), max(abs(L[1, 1]), abs(L[2, 2]))))
         particle_row(p, p_x, p_x0, p_v, p_rho, p_stress, p_mass, gravity, ends[t])
     end_add(ends, t, row)
 '''
 
-#: one run of PARTICLE_STEP, its names (RUN_NAMES) suffixed by the run's place; its scratch and accumulator are
-#: ACCUMULATOR's, made in ``{locals}``
+#: one run of PARTICLE_STEP (RULES where ``on``), its names (RUN_NAMES) suffixed by the run's place; its scratch
+#: and accumulator are ACCUMULATOR's, made in ``{locals}``
 RUN_NAMES = ("particle_rule", "prms", "aux", "outs", "on", "work", "acc", "out")
-STEP_RUN = '''        if on:
-            for g in range(prms.shape[0]):
-                for r in range({slots}):
-                    acc[r] = 0.0
-                particle_rule(prms[g], aux, dt, k, p_x[p], p_x0[p], p_v[p], p_C[p], p_mass[p], p_stress[p],
-                              work[:{used}], acc)
-                out = outs[g]
-{flush}'''
-
-STEP_LAW = '''        law_stress(prm, dt, p_L[p], p_rho[p], p_stress[p], p_state[p])
-'''
-STEP_RELAXED = '''        keep(p_stress[p], p_state[p], p_old[p])
-        law_stress(prm, dt, p_L[p], p_rho[p], p_stress[p], p_state[p])
-        relax(p_stress[p], p_state[p], p_old[p], law_predictor(prm, dt, p_L[p], p_rho[p], p_old[p]), relax_r)
-'''
 
 EACH = '''
 @cuda.jit
@@ -259,11 +240,20 @@ FLUSH = '''    for r in range({slots}):
 '''
 
 
+def _indented(text: str, indent: str) -> str:
+    return "".join(indent + line for line in text.splitlines(keepends=True))
+
+
 def _pass_source(template: str, scratch: int, slots: int, maxima, indent: str = "") -> str:
     keys = dict(scratch=max(scratch, 1), used=scratch, slots=max(slots, 1),
                 maxima_test=" or ".join(f"r == {int(i)}" for i in maxima) if maxima else "False")
-    flush = "".join(indent + line for line in FLUSH.format(**keys).splitlines(keepends=True))
-    return template.format(scratch_and_acc=ACCUMULATOR.format(**keys), flush=flush, **keys)
+    return template.format(scratch_and_acc=ACCUMULATOR.format(**keys), flush=_indented(FLUSH.format(**keys), indent),
+                           **keys)
+
+
+def _rules(scratch: int, slots: int, maxima, indent: str) -> str:
+    """RULES with its accumulator's flush, every line indented by ``indent``."""
+    return _indented(_pass_source(RULES, scratch, slots, maxima), indent)
 
 
 def _kernel(kind: str, name: str, source: str, functions: dict):
@@ -278,17 +268,30 @@ def _kernel(kind: str, name: str, source: str, functions: dict):
     return _CACHE[key]
 
 
+def _law_parts(law, relaxed: bool):
+    """(the law's call, its extra arguments, the functions it calls) of LAW_CALL or RELAXED_CALL."""
+    functions = {"law_stress": law.particle_stress}
+    if not relaxed:
+        return LAW_CALL, "", functions
+    from geompm.kernels.viscoplastic import keep_one, relax_one
+
+    functions.update(law_predictor=law.elastic_predictor, keep=keep_one, relax=relax_one)
+    return RELAXED_CALL, RELAXED_ARGS, functions
+
+
+def _law_kernel(kind: str, name: str, law, relaxed: bool):
+    call, args, functions = _law_parts(law, relaxed)
+    source = LAW.replace("{name}", name).replace("{law_args}", args).replace("{law}", _indented(call, "    "))
+    return _kernel(kind, name, source, functions)
+
+
 def stress_kernel(law):
-    return _kernel("law", "stress_kernel", LAW, {"law_stress": law.particle_stress})
+    return _law_kernel("law", "stress_kernel", law, False)
 
 
 def relaxed_kernel(law):
     """The stress kernel of a law with ``elastic_predictor``, Duvaut-Lions regularised."""
-    from geompm.kernels.viscoplastic import keep_one, relax_one
-
-    return _kernel("law_relaxed", "relaxed_kernel", RELAXED, {"law_stress": law.particle_stress,
-                                                              "law_predictor": law.elastic_predictor,
-                                                              "keep": keep_one, "relax": relax_one})
+    return _law_kernel("law_relaxed", "relaxed_kernel", law, True)
 
 
 def particle_kernel(rule, scratch: int, slots: int, maxima=()):
@@ -319,8 +322,8 @@ def update_group_kernel(rule, scratch: int, slots: int, maxima, update):
 
 @functools.cache
 def _particle_kernel(rule, scratch, slots, maxima):
-    return _kernel("particle", "group_kernel", _pass_source(GROUP, scratch, slots, maxima, "    "),
-                   {"particle_rule": rule})
+    source = _pass_source(GROUP.replace("{rules}", _rules(scratch, slots, maxima, "    ")), scratch, slots, maxima)
+    return _kernel("particle", "group_kernel", source, {"particle_rule": rule})
 
 
 @functools.cache
@@ -329,23 +332,19 @@ def particle_step_kernel(law, relaxed: bool, runs: tuple, kernels: tuple):
     particle-stage ``runs`` ((rule, scratch, slots, maxima) each, in order); ``kernels`` are cuda_kernels'
     (g2p_particle, end_start, end_add), handed in as ``update_group_kernel``'s ``update``."""
     from geompm.kernels.step_end import particle_row
-    from geompm.kernels.viscoplastic import keep_one, relax_one
 
     g2p, start, add = kernels
-    functions = {"law_stress": law.particle_stress, "g2p_particle": g2p, "end_start": start, "end_add": add,
-                 "particle_row": particle_row}
+    law_call, law_args, functions = _law_parts(law, relaxed)
+    functions.update({"g2p_particle": g2p, "end_start": start, "end_add": add, "particle_row": particle_row})
     local, body, args = "", "", ""
     for r, (rule, scratch, slots, maxima) in enumerate(runs):
         one = (_pass_source("{scratch_and_acc}", scratch, slots, maxima),
-               _pass_source(STEP_RUN, scratch, slots, maxima, "        "))
+               "        if on:\n" + _rules(scratch, slots, maxima, "            "))
         one = [re.sub(rf"\b({'|'.join(RUN_NAMES)})\b", rf"\g<1>{r}", part) for part in one]
         local, body = local + one[0], body + one[1]
         args += "".join(f"{name}{r}, " for name in ("prms", "aux", "outs", "on"))
         functions[f"particle_rule{r}"] = rule
-    law_args, law_source = "", STEP_LAW
-    if relaxed:
-        law_args, law_source = "p_old, relax_r, ", STEP_RELAXED
-        functions.update(law_predictor=law.elastic_predictor, keep=keep_one, relax=relax_one)
+    law_source = _indented(law_call, "        ")
     source = PARTICLE_STEP
     for key, text in (("{locals}", local), ("{runs}", body), ("{law}", law_source), ("{run_args}", args),
                       ("{law_args}", law_args)):
