@@ -2,7 +2,7 @@
 (backend/cuda.py ``_joins``; cuda_loops.RULES, in the joined particle pass PARTICLE_STEP and in GROUP), each stage
 with its own accumulator row.  Two stages of a test class (``Tally``: adds prm[0] m aux[0] into slot 0 and takes
 the largest x + prm[0] into slot 1, a maximum) with one shared table, weights 1 and 3, after one step of a tiny
-elastic block: each stage's sum is its weight times the blocks' mass times 2, its maximum the largest x plus its
+elastic block (tests/support/cases.tiny_case): each stage's sum is its weight times the blocks' mass times 2, its maximum the largest x plus its
 weight, on the CPU and on the CUDA backend under numba-cuda's simulator, joined and separate.  No shipped CUDA
 stage forms such a run (each obstacle's guard has its own table; probes run on the CPU only), so nothing else
 would catch a run that keeps only its last stage's sums: the joined pass did, until its rules were written once
@@ -15,6 +15,8 @@ import sys
 from pathlib import Path
 
 import pytest
+
+from tests.support.cases import tiny_case
 
 ROOT = Path(__file__).resolve().parents[2]
 pytest.importorskip("numba_cuda")
@@ -61,15 +63,10 @@ print(json.dumps({"got": [s.got for s in stages], "mass": float(st.p_mass.sum())
 
 
 def _case(backend: str, particle_pass: str) -> dict:
-    return {"name": "runs", "dimension": 2,
-            "grid": {"origin": [0.0, 0.0], "extent": [1.0, 1.0], "cell_size": 0.1},
-            "time": {"end": 0.1}, "gravity": [0.0, -9.81],
-            "materials": {"m": {"model": "linear_elastic", "density": 1000.0, "youngs_modulus": 1.0e5,
-                                "poisson_ratio": 0.3}},
-            "bodies": [{"material": "m", "geometry": {"type": "box", "min": [0.3, 0.0], "max": [0.6, 0.3]}}],
-            "boundaries": [{"type": "wall", "side": "y-", "condition": "fixed"}],
-            "solver": {"backend": backend, "particle_pass": particle_pass} if backend == "cuda"
-            else {"backend": backend}}
+    solver = {"transfer": "apic", "update": "usl", "backend": backend}
+    if backend == "cuda":
+        solver["particle_pass"] = particle_pass
+    return tiny_case(solver=solver, outputs=[])
 
 
 @pytest.mark.parametrize("backend,particle_pass", [("cpu", "joined"), ("cuda", "joined"), ("cuda", "separate")])
@@ -79,7 +76,7 @@ def test_each_stage_of_a_joined_run_keeps_its_own_sums(backend, particle_pass):
                        capture_output=True, text=True, cwd=ROOT, timeout=300)
     assert r.returncode == 0, r.stderr[-3000:]
     out = json.loads(r.stdout.strip().splitlines()[-1])
-    assert out["mass"] > 10.0  # 0.3 x 0.3 m of 1000 kg/m3 a metre deep: 90 kg
+    assert out["mass"] == pytest.approx(320.0, rel=1e-12)  # 0.4 x 0.4 m of 2000 kg/m3, a metre deep
     for (total, top), weight in zip(out["got"], (1.0, 3.0)):
         assert total == pytest.approx(weight * 2.0 * out["mass"], rel=1e-12), out
         assert top == pytest.approx(out["x_max"] + weight, rel=1e-12), out
