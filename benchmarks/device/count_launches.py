@@ -3,7 +3,8 @@ handed to kernels (implicit round trips), copies each way, synchronisations, per
 (coarsened for the simulator), the softening scenes, the saturated one and a scene that sorts its particles every
 step (an obstacle with its guard).
 
-    NUMBA_ENABLE_CUDASIM=1 python benchmarks/device/count_launches.py [--steps 3] [--cells 8] [--held N] [--replay] [SCENE ...]
+    NUMBA_ENABLE_CUDASIM=1 python benchmarks/device/count_launches.py [--steps 3] [--cells 8] [--held N] [--replay]
+        [SCENE ...]
     python benchmarks/device/count_launches.py ...      (on a GPU: the same counts, the real host time)
 
 Each step is taken as `geompm run` takes it: the time step, the step, the health and domain checks.  Prints one

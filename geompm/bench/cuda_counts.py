@@ -122,16 +122,16 @@ def counting(sites: Counter | None = None, launches: list | None = None):
 
 
 def step_counts(sim, steps: int, sites: Counter | None = None, reasons: Counter | None = None) -> dict:
-    """Per step, over at least ``steps`` steps of ``sim`` (a Simulation on the cuda backend) after one untimed
-    step or held batch (two where the scene sorts every step: backend/cuda_scratch.py), the steps taken as `geompm run` takes them (engine/runner.Runner.advance: the time step,
-    the step or a held batch of them, the health and domain checks): each count of KINDS, the wall time [s] and
-    the host's own time [s], the wall time less the time inside kernel launches (under the simulator those run
-    the kernels as Python; on a device a launch is asynchronous and the difference is the host's work plus its
-    waits at blocking copies); the steps and held batches counted; ``sites`` as in ``counting``; ``replay``: per
-    step (or held batch) after the first counted, REPLAY's counts of its launches against the previous one's and
-    against the one before it (``previous``, ``two_back``: bench/cuda_replay.compare), the arguments that differ
-    from the previous one's counted in ``reasons``; only with ``reasons`` (else
-    None: describing each launch adds to the host's time)."""
+    """Per step, over at least ``steps`` steps of ``sim`` (a Simulation on the cuda backend) after one untimed step
+    or held batch (two where the scene sorts every step: backend/cuda_scratch.py), the steps taken as `geompm run`
+    takes them (engine/runner.Runner.advance: the time step, the step or a held batch of them, the health and domain
+    checks): each count of KINDS, the wall time [s] and the host's own time [s], the wall time less the time inside
+    kernel launches (under the simulator those run the kernels as Python; on a device a launch is asynchronous and
+    the difference is the host's work plus its waits at blocking copies); the steps and held batches counted;
+    ``sites`` as in ``counting``; ``replay``: per step (or held batch) after the first counted, REPLAY's counts of
+    its launches against the previous one's and against the one before it (``previous``, ``two_back``:
+    bench/cuda_replay.compare), the arguments that differ from the previous one's counted in ``reasons``; only with
+    ``reasons`` (else None: describing each launch adds to the host's time)."""
     import math
 
     from geompm.engine.runner import Runner

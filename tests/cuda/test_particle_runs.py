@@ -1,11 +1,11 @@
 """Consecutive particle stages of one class that share their table run in one launch on the CUDA backend
 (backend/cuda.py ``_joins``; cuda_loops.RULES, in the joined particle pass PARTICLE_STEP and in GROUP), each stage
-with its own accumulator row.  Two stages of a test class (``Tally``: adds prm[0] m aux[0] into slot 0 and takes
-the largest x + prm[0] into slot 1, a maximum) with one shared table, weights 1 and 3, after one step of a tiny
-elastic block (tests/support/cases.tiny_case): each stage's sum is its weight times the blocks' mass times 2, its maximum the largest x plus its
-weight, on the CPU and on the CUDA backend under numba-cuda's simulator, joined and separate.  No shipped CUDA
-stage forms such a run (each obstacle's guard has its own table; probes run on the CPU only), so nothing else
-would catch a run that keeps only its last stage's sums: the joined pass did, until its rules were written once
+with its own accumulator row. Two stages of a test class (``Tally``: adds prm[0] m aux[0] into slot 0 and takes the
+largest x + prm[0] into slot 1, a maximum) with one shared table, weights 1 and 3, after one step of a tiny elastic
+block (tests/support/cases.tiny_case): each stage's sum is its weight times the blocks' mass times 2, its maximum the
+largest x plus its weight, on the CPU and on the CUDA backend under numba-cuda's simulator, joined and separate. No
+shipped CUDA stage forms such a run (each obstacle's guard has its own table; probes run on the CPU only), so nothing
+else would catch a run that keeps only its last stage's sums: the joined pass did, until its rules were written once
 for both kernels (the flush of the accumulator sat after the loop over the run's stages)."""
 
 import json
