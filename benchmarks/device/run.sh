@@ -24,8 +24,8 @@ here=$(cd "$(dirname "$0")" && pwd)
   # timeout or what is left, whichever is less, and is named if it is cut or skipped.
   gpu_start 430 || exit 2
   # DRY=1 (the dry run under the simulator): every command as below at DRY_CELLS cells per side (default 8:
-  # 4-6 minutes on 2 cores, benchmarks/results/2026-12-06-issue59/device-dry-run.log; CI runs it at 4, about
-  # 100 s: tests/cuda/test_device_script.py), one timed step, one parity step on a coarse dam break, one tiny
+  # 4-6 minutes on 2 cores, benchmarks/results/2026-12-06-issue59/device-dry-run.log; CI runs it at 3, about
+  # 60 s alone: tests/cuda/test_device_script.py), one timed step, one parity step on a coarse dam break, one tiny
   # parity scene, each limit and the deadline four times longer
   steps200=200; dam=""; tiny=""; held=20
   [ -n "${DRY:-}" ] && { steps200=1; dam="--set grid.cell_size=0.05"; tiny="elastic_apic_quadratic_usl"; held=2; }

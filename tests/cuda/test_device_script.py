@@ -1,5 +1,5 @@
 """The device script's dry run: `DRY=1 sh benchmarks/device/run.sh OUT` runs every command of the GPU check under
-numba-cuda's simulator at tiny sizes (4 cells per side here, DRY_CELLS), so a session lent a GPU for 15 minutes
+numba-cuda's simulator at tiny sizes (3 cells per side here, DRY_CELLS), so a session lent a GPU for 15 minutes
 does not lose them to a broken command.  Checked: the script exits 0, no command is cut, fails or is skipped,
 every bench command prints its scenes (8 commands, 10 scene rows, each in the precision, P2G and held step it
 was asked for; the dry run runs the 128- and 64-cell repeats of the 256-cell commands once), the two parity checks agree with the CPU within 1e-9 (the issue's bound), and the count of what a
@@ -20,7 +20,7 @@ pytest.importorskip("numba_cuda")
 
 @pytest.mark.slow
 def test_the_device_script_runs_every_step_under_the_simulator(tmp_path):
-    env = dict(os.environ, DRY="1", DRY_CELLS="4",
+    env = dict(os.environ, DRY="1", DRY_CELLS="3",
                PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}")
     r = subprocess.run(["sh", "benchmarks/device/run.sh", str(tmp_path)], env=env, capture_output=True, text=True,
                        cwd=ROOT, timeout=900)
