@@ -53,10 +53,15 @@ here=$(cd "$(dirname "$0")" && pwd)
   bench 60 64 float64 30 --scene saturated3d --scene dp3d
   step 60 python3 tests/cuda/cuda_parity.py --steps "$steps200" saturated_drucker_prager
   # what each step asks of the host (launches, copies, synchronisations) and its wall time on the device
+  # (--replay: whether a step launches the previous step's kernels with the same device pointers, a CUDA graph's
+  # condition, on the device's own arrays: bench/cuda_replay.py)
   if [ -n "${DRY:-}" ]; then step 60 python3 benchmarks/device/count_launches.py --steps 1 --cells 4 dp2d
     step 60 python3 benchmarks/device/count_launches.py --steps 2 --held 2 --cells 4 dp2d
+    step 60 python3 benchmarks/device/count_launches.py --steps 3 --cells 3 --replay dp2d
   else step 60 python3 benchmarks/device/count_launches.py --steps 20 --cells 16
-    step 60 python3 benchmarks/device/count_launches.py --steps 40 --cells 16 --held 20 fluid3d dp3d dp2d; fi
+    step 60 python3 benchmarks/device/count_launches.py --steps 40 --cells 16 --held 20 fluid3d dp3d dp2d
+    step 40 python3 benchmarks/device/count_launches.py --steps 4 --cells 16 --replay dp3d drucker_prager_cylinder_sorted
+  fi
   # every law and stage on the GPU against the CPU, with what is left (both sides compile cold here)
   step 120 python3 tests/cuda/cuda_parity.py --steps 3 $tiny
   date -u

@@ -1,10 +1,11 @@
 """The device script's dry run: `DRY=1 sh benchmarks/device/run.sh OUT` runs every command of the GPU check under
 numba-cuda's simulator at tiny sizes (3 cells per side here, DRY_CELLS), so a session lent a GPU for 15 minutes
 does not lose them to a broken command.  Checked: the script exits 0, no command is cut, fails or is skipped,
-every bench command prints its scenes (8 commands, 10 scene rows, each in the precision, P2G and held step it
-was asked for; the dry run runs the 128- and 64-cell repeats of the 256-cell commands once), the two parity checks agree with the CPU within 1e-9 (the issue's bound), and the count of what a
-step asks of the host shows one blocking copy a step, or a batch with held steps (benchmarks/device/
-count_launches.py)."""
+every bench command prints its scenes (9 commands, 12 scene rows, each in the precision, P2G, held step and
+particle pass it was asked for; the dry run runs the 128- and 64-cell repeats of the 256-cell commands once), the
+two parity checks agree with the CPU within 1e-9 (the issue's bound), and the count of what a step asks of the
+host shows one blocking copy a step, or a batch with held steps (benchmarks/device/count_launches.py), and a step
+that makes no device array and launches the previous step's kernels on the same arrays and grids."""
 
 import json
 import os
@@ -48,3 +49,6 @@ def test_the_device_script_runs_every_step_under_the_simulator(tmp_path):
     assert ordinary and all(row["blocking"] == 1 and row["h2d"] == 0 for row in ordinary), counts
     batched = [row for row in counts if row["batches"]]  # 4 steps in one batch: a read and the box sent
     assert batched and all(row["blocking"] <= 2 / row["steps"] + 1e-12 for row in batched), counts
+    replayed = [row for row in counts if row["replay"] is not None]  # the same kernels, arrays and grids as before
+    assert replayed and all(row["replay"]["previous"]["same_topology"] == 1 and row["replay"]["previous"]["arrays"]
+                            == 0 and row["allocs"] == 0 for row in replayed), replayed
