@@ -347,12 +347,13 @@ class CudaBackend(Backend):
         held = self._smalls.get(key)
         if held is not None and held[0] == values:
             return held[1]
-        if held is not None and held[0][:2] == values[:2]:
-            held[1].copy_to_device(host)  # in place: the kernels launched before it read the old values first
-            self._smalls[key] = (values, held[1])  # (stream order), and the array keeps its device pointer
+        if held is not None and held[0][:2] == values[:2]:  # the same shape and type: into the same array, whose
+            device = held[1]  # device pointer stays; the kernels launched before the copy read the old values
+            device.copy_to_device(host)  # (the stream orders them)
         else:
-            held = self._smalls[key] = (values, cuda.to_device(host))
-        return self._smalls[key][1]
+            device = cuda.to_device(host)
+        self._smalls[key] = (values, device)
+        return device
 
     def _block(self, dev, s: int, e: int) -> list:
         """The arrays of BLOCK_ARRAYS for particles s..e-1, as device views made again only where an array was
