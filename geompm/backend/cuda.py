@@ -52,6 +52,8 @@ from geompm.backend.base import Backend, mass_floor, relaxed_materials
 
 #: the particle arrays that live on the device (and the scheme's own: its passes' ``device_arrays``)
 DEVICE_ARRAYS = ("p_x", "p_x0", "p_v", "p_C", "p_mass", "p_vol", "p_rho", "p_stress", "p_L")
+#: a node box holding every node ((first, last) per axis, as Stage.node_box gives it)
+_EVERY_NODE = np.array([[-FAR_NODE], [FAR_NODE]], np.int64)
 #: the particle arrays of a material block that cuda_loops.PARTICLE_STEP takes, in its order
 BLOCK_ARRAYS = ("p_x", "p_x0", "p_v", "p_C", "p_L", "p_vol", "p_rho", "p_mass", "p_stress")
 
@@ -316,7 +318,7 @@ class CudaBackend(Backend):
         st = self.state
         if not st.n:
             return
-        cells = self._end_now()["block_cells"]  # each block's cell range from the step-end bounds: no copy
+        cells = self._block_cells(self._end_now()["rows"])  # each block's cell range from the step-end bounds
         dev = self._device()
         room, first = self._scratch, self._perm is None  # the first since the host read: perm is the composition
         perm = cuda_sort.cell_order(dev["p_x"], self._origin, self.scene.grid.h, st.blocks, cells, self._small, room,
@@ -407,12 +409,13 @@ class CudaBackend(Backend):
         ``update``: the grid update first, at every node of the window (cuda_loops.UPDATE_GROUP)."""
         first = run[0][0]
         cls, ids, d = type(first), tuple(id(s) for s, _ in run), self.scene.dim
-        boxes = np.zeros((len(run), 2, d), np.int64)
+        ends = np.empty((2, len(run), d), np.int64)  # each stage's first and last node (its node box)
         for g, (stage, _) in enumerate(run):
             box = stage.node_box(time)
-            f_box, l_box = (np.full(d, -FAR_NODE), np.full(d, FAR_NODE)) if box is None else box
-            boxes[g, 0] = np.minimum(np.maximum(np.asarray(f_box) - view.lo, 0), view.nloc)
-            boxes[g, 1] = np.maximum(np.minimum(np.asarray(l_box) - view.lo + 1, view.nloc) - boxes[g, 0], 0)
+            ends[:, g] = _EVERY_NODE if box is None else box
+        boxes = np.empty((len(run), 2, d), np.int64)  # window-relative: first node and count per axis
+        boxes[:, 0] = np.minimum(np.maximum(ends[0] - view.lo, 0), view.nloc)
+        boxes[:, 1] = np.maximum(np.minimum(ends[1] - view.lo + 1, view.nloc) - boxes[:, 0], 0)
         held = boxes[:, 1].prod(axis=1) > 0
         slots = max(first.node_reduction, 1)
         outs, where = self._pass_slots((ids, "grid"), slots * len(run))
@@ -648,17 +651,22 @@ class CudaBackend(Backend):
         speed_density = np.empty(1 + 2 * nb)
         speed_density[0] = rows[:, 9].max()
         speed_density[1::2], speed_density[2::2] = rows[:, 10], rows[:, 11]
-        spec = self.scene.grid
-        block_cells = []
-        for row, (s, e) in zip(rows, self.state.blocks):  # each block's lowest and highest cell (cuda_sort.py)
-            lo, hi, total = -row[0:d], row[3:3 + d], row[6:6 + d]
-            finite = e > s and np.isfinite(total).all() and np.isfinite(lo).all() and np.isfinite(hi).all()
-            block_cells.append((np.floor((lo - spec.origin) * (1.0 / spec.h)).astype(np.int64),
-                                np.floor((hi - spec.origin) * (1.0 / spec.h)).astype(np.int64)) if finite else None)
-        return {"values": values, "rows": flat.copy(), "block_cells": block_cells,
+        return {"values": values, "rows": flat.copy(),
                 "lo": -rows[:, 0:d].max(axis=0), "hi": rows[:, 3:3 + d].max(axis=0),
                 "sum": rows[:, 6:6 + d].sum(axis=0), "speed_density": speed_density,
                 "health": (float(rows[:, 12].sum()), float(rows[:, 13].sum()), float(rows[:, 14].sum()))}
+
+    def _block_cells(self, flat) -> list:
+        """Each material block's lowest and highest cell ((d,) int64 each) from the step-end rows ``flat``, None for
+        an empty block or one with a non-finite coordinate (cuda_sort.cell_order's ``extents``)."""
+        d, spec = self.scene.dim, self.scene.grid
+        cells = []
+        for row, (s, e) in zip(flat.reshape(-1, K.END_ROW), self.state.blocks):
+            lo, hi, total = -row[0:d], row[3:3 + d], row[6:6 + d]
+            finite = e > s and np.isfinite(total).all() and np.isfinite(lo).all() and np.isfinite(hi).all()
+            cells.append((np.floor((lo - spec.origin) * (1.0 / spec.h)).astype(np.int64),
+                          np.floor((hi - spec.origin) * (1.0 / spec.h)).astype(np.int64)) if finite else None)
+        return cells
 
     def ended_slots(self, key):
         """The values of the tally slots ``key`` (a scheme's ``end_reductions``) of the step-end reductions."""
