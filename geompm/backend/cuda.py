@@ -71,6 +71,13 @@ def _runs(pairs, joins) -> list:
     return runs
 
 
+def _in_window(first, last, view):
+    """Node boxes (global first and last node, inclusive, (..., d)) within ``view``'s window: each box's first node
+    relative to the window and its count of nodes per axis (0 where it misses the window), int64."""
+    b0 = np.minimum(np.maximum(np.asarray(first) - view.lo, 0), view.nloc).astype(np.int64)
+    return b0, np.maximum(np.minimum(np.asarray(last) - view.lo + 1, view.nloc) - b0, 0).astype(np.int64)
+
+
 class _DeviceGrid:
     """The grid window's device arrays, grown geometrically (mpm/grid.GridBuffers on the host)."""
 
@@ -413,9 +420,7 @@ class CudaBackend(Backend):
         for g, (stage, _) in enumerate(run):
             box = stage.node_box(time)
             ends[:, g] = _EVERY_NODE if box is None else box
-        boxes = np.empty((len(run), 2, d), np.int64)  # window-relative: first node and count per axis
-        boxes[:, 0] = np.minimum(np.maximum(ends[0] - view.lo, 0), view.nloc)
-        boxes[:, 1] = np.maximum(np.minimum(ends[1] - view.lo + 1, view.nloc) - boxes[:, 0], 0)
+        boxes = np.stack(_in_window(ends[0], ends[1], view), axis=1)  # (stages, 2, d)
         held = boxes[:, 1].prod(axis=1) > 0
         slots = max(first.node_reduction, 1)
         outs, where = self._pass_slots((ids, "grid"), slots * len(run))
@@ -466,8 +471,7 @@ class CudaBackend(Backend):
         pore = view.g_pore if wet else self._dry_node
         prms = self._small((id(stage), "grid"), np.asarray(prm, np.float64)[None])
         for part, (f_box, l_box, counted) in enumerate(self.domain.node_parts(np.asarray(first), np.asarray(last))):
-            b0 = np.minimum(np.maximum(f_box - view.lo, 0), view.nloc).astype(np.int64)
-            bn = np.maximum(np.minimum(l_box - view.lo + 1, view.nloc) - b0, 0).astype(np.int64)
+            b0, bn = _in_window(f_box, l_box, view)
             total = int(np.prod(bn))
             if not total:
                 continue
