@@ -228,6 +228,14 @@ class Backend:
     def each(self, fn, n: int, *args) -> None:
         """Run a scheme's per-item function ``fn(i, *args)`` for i in 0..n-1, in parallel: the backend's
         generated loop (backend/item_loops.py on the CPU, cuda_loops.each_kernel on a GPU)."""
+        self.each_in_turn(n, ((fn, args),))
+
+    def each_in_turn(self, n: int, calls) -> None:
+        """Run the per-item functions of ``calls`` ((fn, args) pairs) in turn on each item i in 0..n-1, in one
+        parallel loop (one launch on a GPU): ``fn(i, *args)`` for each pair in order.  The caller declares the
+        run pointwise: of what one function writes, a later one reads only item i's own entries, and no
+        function writes what an earlier one reads at other items (then the loop's order over the items does
+        not matter, and the run equals the functions' loops one after the other)."""
         raise NotImplementedError
 
     def material_parameters_changed(self) -> None:

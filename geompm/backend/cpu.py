@@ -146,9 +146,9 @@ class CpuBackend(Backend):
                 rate = max(rate, update_law_block(mat, dt, st.p_L[s:e], st.p_rho[s:e], st.p_stress[s:e], sv, relax))
         self.max_rate = rate
 
-    def each(self, fn, n: int, *args) -> None:
+    def each_in_turn(self, n: int, calls) -> None:
         if n > 0:
-            each_loop(fn)(n, *args)
+            each_loop(tuple(fn for fn, _ in calls))(n, *(a for _, args in calls for a in args))
 
     def sort_particles(self) -> None:
         self.state.sort_by_cell(self.scene.grid.origin, self.scene.grid.h)

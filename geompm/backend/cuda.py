@@ -313,10 +313,11 @@ class CudaBackend(Backend):
             self.max_rate = max_rate(self.host_state().p_L) if st.n else 0.0
         return c, (float(r[0]) if st.n else 0.0), self.max_rate
 
-    def each(self, fn, n: int, *args) -> None:
+    def each_in_turn(self, n: int, calls) -> None:
         self._moved += 1
         if n > 0:
-            cuda_loops.each_kernel(fn)[K.blocks(n), K.THREADS](n, *args)
+            cuda_loops.each_kernel(tuple(fn for fn, _ in calls))[K.blocks(n), K.THREADS](
+                n, *(a for _, args in calls for a in args))
 
     def sort_particles(self) -> None:
         """The counting sort on the device (backend/cuda_sort.py).  The arrays that live on the host (ids, bodies,

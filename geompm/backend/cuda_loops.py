@@ -210,8 +210,7 @@ EACH = '''
 def each_kernel(n, {args}):
     i = cuda.grid(1)
     if i < n:
-        item(i, {args})
-'''
+{calls}'''
 
 MERGE = '''
 @cuda.jit
@@ -353,11 +352,13 @@ def particle_step_kernel(law, relaxed: bool, runs: tuple, kernels: tuple):
 
 
 @functools.cache
-def each_kernel(fn):
-    """One thread per item around a scheme's per-item function ``fn(i, *args)`` (backend/item_loops.py)."""
-    from geompm.backend.item_loops import item_arguments
+def each_kernel(fns: tuple):
+    """One thread per item calling a scheme's per-item functions ``fns`` in turn, each ``fn(i, *its args)``
+    (backend/item_loops.py: the CPU's loop around the same calls)."""
+    from geompm.backend.item_loops import item_calls
 
-    return _kernel("each", "each_kernel", EACH.format(args=item_arguments(fn)), {"item": fn})
+    args, calls, functions = item_calls(fns, "        ")
+    return _kernel("each", "each_kernel", EACH.format(args=args, calls=calls), functions)
 
 
 def merge_kernel(image):

@@ -163,15 +163,16 @@ class SaturatedPasses:
                 self.be.each(tp.fold_one, view.g_mass.shape[0], table, rows)
 
     # -- the passes --------------------------------------------------------------------------------------
-    def _smooth(self, view, lo, nloc, halo, P, p_val, p_out) -> None:
-        """p_out = S p_val, the field seen through the grid."""
+    def _smooth(self, view, lo, nloc, halo, P, p_val, p_out, then=()) -> None:
+        """p_out = S p_val, the field seen through the grid; ``then``: particle passes ((fn, args) pairs) that
+        read p_out only at their own particle, run in turn with the gather (Backend.each_in_turn)."""
         g, nn = self.scene.grid, view.g_mass.shape[0]
         self._smooth_scatter(view, lo, nloc, P, p_val)
         halo((self.g_vp[:nn],))
         self.fold(view, (self.g_vp[:nn],))
         self.be.each(tp.smooth_node_one, nn, self.g_vp[:nn], self.g_p[:nn])
-        self.be.each(tp.smooth_gather_one, self.n, self.tag, P.p_x, P.p_drained, self.g_p[:nn], self._origin, g.h,
-                     g.kind, lo, nloc, p_out)
+        self.be.each_in_turn(self.n, ((tp.smooth_gather_one, (self.tag, P.p_x, P.p_drained, self.g_p[:nn],
+                                                               self._origin, g.h, g.kind, lo, nloc, p_out)),) + then)
 
     def _solids(self, view, time):
         """The rigid solids' rows of the window's nodes (nn, solids.WIDTH): fill, drained contact mark,
@@ -197,13 +198,15 @@ class SaturatedPasses:
         self._particles(self.be.state.n)
         nn = self._nodes(view)
         lo, nloc = self.window_index(view)
+        # the acting pressure, then the total stress, water mass and drag from it, particle by particle
+        prepare = ((tp.prepare_one, (P.p_stress, P.p_pore, P.p_n, P.p_sat, P.p_vol, P.p_material, self.table,
+                                     self.p_total, self.p_wmass, self.p_drag)),)
         if self.smoothing:
-            self._smooth(view, lo, nloc, halo, P, P.p_pore_carried, P.p_pore)
-            be.each(tp.cavitation_one, self.n, P.p_pore, P.p_material, self.table)
+            self._smooth(view, lo, nloc, halo, P, P.p_pore_carried, P.p_pore,
+                         ((tp.cavitation_one, (P.p_pore, P.p_material, self.table)),) + prepare)
         else:
-            be.each(tp.acting_one, self.n, P.p_pore, P.p_pore_carried, P.p_drained, P.p_material, self.table)
-        be.each(tp.prepare_one, self.n, P.p_stress, P.p_pore, P.p_n, P.p_sat, P.p_vol, P.p_material, self.table,
-                self.p_total, self.p_wmass, self.p_drag)
+            be.each_in_turn(self.n, ((tp.acting_one, (P.p_pore, P.p_pore_carried, P.p_drained, P.p_material,
+                                                       self.table)),) + prepare)
         self._scatter(view, lo, nloc, P)
         if self._held_heads():
             head.band_force(self.tag, P.p_x, P.p_vol, P.p_n, P.p_sat, P.p_material, self.table, self.walls,
@@ -212,10 +215,12 @@ class SaturatedPasses:
         halo((view.g_mass, view.g_mom, view.g_force, self.g_w[:nn]))
         self.fold(view, (view.g_mass.reshape(-1, 1), view.g_mom, view.g_force, self.g_w[:nn]))
         self.g_solid = self._solids(view, time)
-        be.each(tp.node_fill_one, nn, self.g_w[:nn], self.g_solid, self.walls, self._origin, g.h, lo, nloc,
-                g.h ** self.scene.dim, self.g_fill[:nn])
-        be.each(tp.node_mixture_one, nn, view.g_mass, view.g_mom, self.g_w[:nn], be.mass_eps, self.g_rel[:nn])
-        be.each(tp.node_pore_one, nn, self.g_w[:nn], self.g_pore[:nn])
+        # node by node (the fill reads the water's rows at mirrored nodes, which none of the three writes)
+        be.each_in_turn(nn, ((tp.node_fill_one, (self.g_w[:nn], self.g_solid, self.walls, self._origin, g.h, lo,
+                                                  nloc, g.h ** self.scene.dim, self.g_fill[:nn])),
+                             (tp.node_mixture_one, (view.g_mass, view.g_mom, self.g_w[:nn], be.mass_eps,
+                                                    self.g_rel[:nn])),
+                             (tp.node_pore_one, (self.g_w[:nn], self.g_pore[:nn]))))
         view.g_pore = self.g_pore[:nn]
 
     def snapshot(self, view, dt: float) -> None:
@@ -225,43 +230,55 @@ class SaturatedPasses:
         self.be.each(tp.node_snapshot_one, nn, view.g_mass, view.g_vel, view.g_vel_old, self.g_w[:nn],
                      self.gravity, dt, self.be.mass_eps, self.g_rel[:nn], self.g_rel0[:nn], self.g_vpre[:nn])
 
-    def mirror(self, view) -> None:
+    def mirror(self, view) -> tuple:
         """The normal velocity behind the impermeable walls and inside the fixed impermeable solids mirrored
-        from the material's (mirror.py), after the stages and before the split."""
+        from the material's (mirror.py), after the stages and before the split: the velocities copied, and the
+        mirror's node pass returned ((fn, args), none without a wall or solid) for the caller to run with the
+        split's (the mirror reads the copy at other nodes, and writes only its own node's velocity)."""
         if self.walls.shape[0] == 0 and self._solid is None:
-            return
+            return ()
         g, nn = self.scene.grid, view.g_vel.shape[0]
         lo, nloc = self.window_index(view)
         self.be.each(mirror.node_copy_one, nn, view.g_vel, self.g_image[:nn])
-        self.be.each(mirror.node_mirror_one, nn, self.g_image[:nn], view.g_mass, self.walls, self.g_solid,
-                     self._origin, g.h, lo, nloc, self.be.mass_eps, view.g_vel)
+        return ((mirror.node_mirror_one, (self.g_image[:nn], view.g_mass, self.walls, self.g_solid, self._origin,
+                                          g.h, lo, nloc, self.be.mass_eps, view.g_vel)),)
 
-    def split(self, view, dt: float) -> None:
+    def _split(self, view, dt: float, g_vold, g_vwold) -> None:
+        """The mirror (``mirror``) and node_split_one, node by node in one pass (the split reads the velocity the
+        mirror wrote only at its own node); the velocities before the step into ``g_vold`` and ``g_vwold``."""
         g, nn = self.scene.grid, view.g_vel.shape[0]
         lo, nloc = self.window_index(view)
-        self.mirror(view)
-        self.be.each(tp.node_split_one, nn, view.g_mass, view.g_vel, self.g_vpre[:nn], self.g_w[:nn],
-                     self.g_rel[:nn], self.g_rel0[:nn], self.g_solid, self.walls, self._origin, g.h, lo, nloc, self.gravity, dt,
-                     self.be.mass_eps, self.g_vw[:nn], view.g_vel_old, self.g_vwold[:nn])
+        self.be.each_in_turn(nn, self.mirror(view) + (
+            (tp.node_split_one, (view.g_mass, view.g_vel, self.g_vpre[:nn], self.g_w[:nn], self.g_rel[:nn],
+                                 self.g_rel0[:nn], self.g_solid, self.walls, self._origin, g.h, lo, nloc, self.gravity,
+                                 dt, self.be.mass_eps, self.g_vw[:nn], g_vold, g_vwold)),))
+
+    def split(self, view, dt: float) -> None:
+        self._split(view, dt, view.g_vel_old, self.g_vwold[:view.g_vel.shape[0]])
 
     def water_g2p(self, view, dt: float, halo) -> None:
-        """The water's particle velocity and the pore pressure's step, at the particles before they move."""
-        self.water_velocity(view, dt)
-        self.pressure_step(view, dt, halo)
+        """The water's particle velocity and the pore pressure's step, at the particles before they move (the
+        gather and the step's first particle passes in one: each reads the gather's fill and divergences at its
+        own particle)."""
+        P = self.particles()
+        self.pressure_step(view, dt, halo, (self._water_g2p_call(view, P.p_vw, P.p_Cw, self._flip(dt)),))
 
     def _flip(self, dt: float) -> float:
         sc = self.scene
         return 0.0 if not self.flips else (sc.flip_ratio if sc.flip_tau is None else math.exp(-dt / sc.flip_tau))
 
-    def _water_g2p(self, view, p_vw, p_Cw, flip: float) -> None:
-        """water_g2p_one into p_vw, p_Cw: the water's velocity and affine matrix, both divergences and the
-        fill at the particles."""
+    def _water_g2p_call(self, view, p_vw, p_Cw, flip: float) -> tuple:
+        """(water_g2p_one, its arguments) into p_vw, p_Cw: the water's velocity and affine matrix, both
+        divergences and the fill at the particles."""
         g, nn, sc = self.scene.grid, view.g_vel.shape[0], self.scene
         P = self.particles()
         lo, nloc = self.window_index(view)
-        self.be.each(tp.water_g2p_one, self.n, self.tag, P.p_x, p_vw, p_Cw, self.affine, sc.apic_dinv, flip,
-                     self.p_divw, self.p_divs, self.p_fill, self.g_vw[:nn], self.g_vwold[:nn], view.g_vel,
-                     self.g_fill[:nn], self._origin, g.h, g.kind, lo, nloc)
+        return tp.water_g2p_one, (self.tag, P.p_x, p_vw, p_Cw, self.affine, sc.apic_dinv, flip, self.p_divw,
+                                  self.p_divs, self.p_fill, self.g_vw[:nn], self.g_vwold[:nn], view.g_vel,
+                                  self.g_fill[:nn], self._origin, g.h, g.kind, lo, nloc)
+
+    def _water_g2p(self, view, p_vw, p_Cw, flip: float) -> None:
+        self.be.each_in_turn(self.n, (self._water_g2p_call(view, p_vw, p_Cw, flip),))
 
     def water_velocity(self, view, dt: float) -> None:
         """The water's particle velocity and affine matrix from the updated grid (MUSL's first G2P)."""
@@ -288,12 +305,9 @@ class SaturatedPasses:
         be.each(tp.node_remap_one, nn, view.g_mass, view.g_mom, self.g_w[:nn], be.mass_eps, view.g_vel,
                 self.g_rel[:nn], self.g_rel0[:nn], self.g_vpre[:nn])
         stages()
-        self.mirror(view)
         if self.g_old is None or self.g_old.shape[0] < self.cap:
             self.g_old = self._zeros((self.cap, self.scene.dim))
-        self.be.each(tp.node_split_one, nn, view.g_mass, view.g_vel, self.g_vpre[:nn], self.g_w[:nn],
-                     self.g_rel[:nn], self.g_rel0[:nn], self.g_solid, self.walls, self._origin, g.h, lo, nloc,
-                     self.gravity, 0.0, be.mass_eps, self.g_vw[:nn], self.g_old[:nn], self.g_vwold[:nn])
+        self._split(view, 0.0, self.g_old[:nn], self.g_vwold[:nn])
         if self.p_vw2 is None or self.p_vw2.shape[0] != self.n:
             d = self.scene.dim
             self.p_vw2, self.p_Cw2 = self._zeros((self.n, d)), self._zeros((self.n, d, d))
@@ -303,32 +317,37 @@ class SaturatedPasses:
         """Whether a water boundary holds a head (Stage.water_head)."""
         return any(s is not None for s in self.pw.heads)
 
-    def _hold_heads(self, hold: int) -> None:
+    def _hold_heads(self, hold: int, heads) -> tuple:
         """The particles at a held head (kernels.head_one): marked drained (0) before the increment, held
-        at the head's pressure (1) after it."""
+        at the head's pressure (1) after it: the pass ((fn, args); none without a held head), ``heads`` the
+        levels at this step's time on the backend."""
         if not self._held_heads():
-            return
+            return ()
         P = self.particles()
-        self.be.each(head.head_one, self.n, P.p_x, P.p_drained, P.p_pore_carried, P.p_pore, P.p_sat, P.p_n,
-                     P.p_material, self.table, self.walls, self._on_device(self.pw.heads_at(self._time)),
-                     self.gravity, float(np.linalg.norm(self.scene.gravity)), self.scene.grid.h, hold)
+        return ((head.head_one, (P.p_x, P.p_drained, P.p_pore_carried, P.p_pore, P.p_sat, P.p_n, P.p_material,
+                                 self.table, self.walls, heads, self.gravity, float(np.linalg.norm(self.scene.gravity)),
+                                 self.scene.grid.h, hold)),)
 
-    def pressure_step(self, view, dt: float, halo) -> None:
+    def pressure_step(self, view, dt: float, halo, first: tuple = ()) -> None:
         """The drained flag, the pore pressure's increment from the divergences at the particles (the
-        pressure seen through the grid with the smoothing) and both pressures advanced."""
-        be, n = self.be, self.n
+        pressure seen through the grid with the smoothing) and both pressures advanced: particle by particle
+        in one pass (two with the smoothing, whose gather starts the second), after ``first`` (particle passes
+        whose outputs these read only at their own particle: the water's gather)."""
+        n = self.n
         P = self.particles()
         lo, nloc = self.window_index(view)
-        be.each(tp.flag_drained_one, n, self.p_fill, P.p_sat, P.p_n, P.p_material, self.table, P.p_drained)
-        self._hold_heads(0)
-        be.each(tp.pressure_increment_one, n, self.p_dp, self.p_divw, self.p_divs, P.p_n, P.p_material, self.table,
-                dt)
-        dp = self.p_dp
+        heads = self._on_device(self.pw.heads_at(self._time)) if self._held_heads() else None
+        increment = first + ((tp.flag_drained_one, (self.p_fill, P.p_sat, P.p_n, P.p_material, self.table,
+                                                    P.p_drained)),) + self._hold_heads(0, heads) + (
+            (tp.pressure_increment_one, (self.p_dp, self.p_divw, self.p_divs, P.p_n, P.p_material, self.table, dt)),)
+        dp = self.p_dps if self.smoothing else self.p_dp
+        advance = ((tp.add_increment_one, (P.p_pore_carried, P.p_pore, dp, P.p_drained, P.p_material, self.table)),
+                   ) + self._hold_heads(1, heads)
         if self.smoothing:
-            self._smooth(view, lo, nloc, halo, P, self.p_dp, self.p_dps)
-            dp = self.p_dps
-        be.each(tp.add_increment_one, n, P.p_pore_carried, P.p_pore, dp, P.p_drained, P.p_material, self.table)
-        self._hold_heads(1)
+            self.be.each_in_turn(n, increment)
+            self._smooth(view, lo, nloc, halo, P, self.p_dp, self.p_dps, advance)
+        else:
+            self.be.each_in_turn(n, increment + advance)
 
     def porosity(self) -> None:
         P = self.particles()

@@ -104,10 +104,7 @@ class SemiImplicitCpu(SaturatedCpu):
         be.each(pj.node_join_one, nn, view.g_mass, view.g_vel, self.g_vw[:nn], self.g_w[:nn], be.mass_eps,
                 self.g_rel[:nn], self.g_rel0[:nn], self.g_vpre[:nn])
         stages()
-        self.mirror(view)
-        be.each(tp.node_split_one, nn, view.g_mass, view.g_vel, self.g_vpre[:nn], self.g_w[:nn], self.g_rel[:nn],
-                self.g_rel0[:nn], self.g_solid, self.walls, self._origin, g.h, lo, nloc, self.gravity, 0.0,
-                be.mass_eps, self.g_vw[:nn], self.g_scratch[:nn], self.g_scratch_w[:nn])
+        self._split(view, 0.0, self.g_scratch[:nn], self.g_scratch_w[:nn])
 
     def water_step(self, view, dt: float) -> None:
         """The water's particle velocity from the corrected grid, and the solve's increment added to both
