@@ -10,7 +10,9 @@ step (an obstacle with its guard).
 Each step is taken as `geompm run` takes it: the time step, the step, the health and domain checks.  Prints one
 table row and one JSON line per scene: the counts per step, the wall time per step, and the host's own time per
 step (the wall time less the time inside kernel launches: under the simulator the kernels run as Python inside
-them; on a device launches return at once and the host's time includes its waits at blocking copies)."""
+them; on a device launches return at once and the host's time includes its waits at blocking copies); under the
+simulator also the host's time alone (geompm/bench/cuda_host.py: launches that return at once, ``--host-steps``
+steps three times)."""
 
 from __future__ import annotations
 
@@ -44,6 +46,8 @@ def main(argv=None) -> int:
                     help="override in every scene (solver.particle_pass=separate)")
     ap.add_argument("--replay", action="store_true", help="also compare each step's launches with the previous "
                     "step's (geompm/bench/cuda_replay.py): could the step be replayed as a CUDA graph")
+    ap.add_argument("--host-steps", type=int, default=0, help="under the simulator, also time this many steps "
+                    "three times with every launch returning at once (geompm/bench/cuda_host.py; default: not)")
     ap.add_argument("--held", type=int, default=0, help="solver.held_step.steps: hold the step for up to this "
                     "many steps (engine/held_step.py); default: every step the stable one")
     args = ap.parse_args(argv)
@@ -51,6 +55,7 @@ def main(argv=None) -> int:
 
     from geompm.api import scene_from_dict
     from geompm.bench.cuda_counts import KINDS, step_counts
+    from geompm.bench.cuda_host import host_only
     from geompm.engine.scheduler import Simulation
     from geompm.errors import CaseError
 
@@ -61,7 +66,7 @@ def main(argv=None) -> int:
                                       "drucker_prager_cylinder_sorted")}}
     names = args.scenes or list(chosen)
     print(f"{'scene':<32}{'particles':>10}" + "".join(f"{k:>10}" for k in KINDS) + f"{'wall ms':>10}{'host ms':>10}"
-          + f"{'steps':>7}{'batches':>8}")
+          + f"{'steps':>7}{'batches':>8}{'host-only ms':>14}")
     for name in names:
         spec = chosen[name]
         if isinstance(spec, tuple):
@@ -84,8 +89,11 @@ def main(argv=None) -> int:
         sites = Counter() if args.sites else None
         reasons = Counter() if args.replay else None
         r = step_counts(sim, args.steps, sites, reasons)
+        r["host_only_per_step"] = host_only(sim, args.host_steps) if args.host_steps else None
+        alone = "-" if r["host_only_per_step"] is None else f"{1e3 * r['host_only_per_step']:.3f}"
         print(f"{name:<32}{scene.state.n:>10}" + "".join(f"{r[k]:>10.1f}" for k in KINDS)
-              + f"{1e3 * r['wall_per_step']:>10.1f}{1e3 * r['host_per_step']:>10.2f}{r['steps']:>7}{r['batches']:>8}")
+              + f"{1e3 * r['wall_per_step']:>10.1f}{1e3 * r['host_per_step']:>10.2f}{r['steps']:>7}{r['batches']:>8}"
+              + f"{alone:>14}")
         print(json.dumps({"scene": name, "particles": scene.state.n, **r}), flush=True)
         for (what, where), k in sorted((sites or {}).items(), key=lambda kv: -kv[1]):
             print(f"    {k / args.steps:6.1f} per step  {what:<14} {where}")
