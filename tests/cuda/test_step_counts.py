@@ -127,3 +127,50 @@ def test_the_particle_pass_apart_takes_three_launches_more():
     assert r.returncode == 0, r.stderr[-2000:]
     row = next(json.loads(line) for line in r.stdout.splitlines() if line.startswith("{"))
     assert row["launches"] == 8 and row["blocking"] == 1 and row["h2d"] == 0, row
+
+
+HOST_ALONE = """
+import json, math, sys
+from pathlib import Path
+import numpy as np
+sys.path.insert(0, "benchmarks/device")
+from count_launches import bench_scenes
+from geompm.api import scene_from_dict
+from geompm.bench.cuda_host import host_only
+from geompm.engine.runner import Runner
+from geompm.engine.scheduler import Simulation
+
+f, sets = bench_scenes(3)["dp2d"]
+raw = json.loads(Path(f).read_text())
+raw["solver"]["backend"] = "cuda"
+sim = Simulation(scene_from_dict(raw, f.parent, sets))
+sim.distribute()
+be = sim.backend
+x0 = be.host_state().p_x.copy()
+dts, step = [], sim.step
+sim.step = lambda dt: (dts.append(dt), step(dt))
+seconds = host_only(sim, 20, repeats=2)
+x1 = be.host_state().p_x.copy()
+runner = Runner(sim, None, [], progress=False)
+runner.start()
+runner.advance(math.inf)
+x2 = be.host_state().p_x.copy()
+print(json.dumps({"seconds": seconds, "dts": dts, "moved_alone": float(np.abs(x1 - x0).max()),
+                  "moved_after": float(np.abs(x2 - x1).max())}))
+"""
+
+
+def test_the_host_alone_takes_steps_without_the_device_and_gives_it_back():
+    """geompm/bench/cuda_host.host_only (count_launches --host-steps): one real step, then steps whose launches
+    return at once: the particles moved only in the real step (after it, every step the same path: the clock
+    advances by the real step's dt each time), at least 20 + 2 x 20 steps taken, a positive time per step; and the
+    launches and the tally's read are given back (the next step moves the particles again)."""
+    r = subprocess.run([sys.executable, "-c", HOST_ALONE], env=SIM, capture_output=True, text=True, cwd=ROOT,
+                       timeout=300)
+    assert r.returncode == 0, r.stderr[-2000:]
+    out = json.loads(r.stdout.strip().splitlines()[-1])
+    dts = out["dts"]
+    assert out["seconds"] > 0.0 and len(dts) == 1 + 20 + 2 * 20 + 1, out  # real, untimed, two timed runs, real
+    assert out["moved_alone"] > 0.0 and out["moved_after"] > 0.0, out  # the real first step, the given-back one
+    alone = dts[1:-1]  # the same path every step: the time step from the real step's end values, exactly
+    assert len(set(alone)) == 1 and alone[0] > 0.0, dts
