@@ -230,12 +230,14 @@ class Backend:
         generated loop (backend/item_loops.py on the CPU, cuda_loops.each_kernel on a GPU)."""
         self.each_in_turn(n, ((fn, args),))
 
-    def each_in_turn(self, n: int, calls) -> None:
+    def each_in_turn(self, n: int, calls, moves: bool = True) -> None:
         """Run the per-item functions of ``calls`` ((fn, args) pairs) in turn on each item i in 0..n-1, in one
         parallel loop (one launch on a GPU): ``fn(i, *args)`` for each pair in order.  The caller declares the
         run pointwise: of what one function writes, a later one reads only item i's own entries, and no
         function writes what an earlier one reads at other items (then the loop's order over the items does
-        not matter, and the run equals the functions' loops one after the other)."""
+        not matter, and the run equals the functions' loops one after the other).  ``moves`` False: the run
+        writes none of the particle arrays the step-end reductions read (positions, velocities, masses,
+        densities, stresses), so a device backend keeps those it has (the porosity)."""
         raise NotImplementedError
 
     def material_parameters_changed(self) -> None:

@@ -146,7 +146,7 @@ class CpuBackend(Backend):
                 rate = max(rate, update_law_block(mat, dt, st.p_L[s:e], st.p_rho[s:e], st.p_stress[s:e], sv, relax))
         self.max_rate = rate
 
-    def each_in_turn(self, n: int, calls) -> None:
+    def each_in_turn(self, n: int, calls, moves: bool = True) -> None:
         if n > 0:
             each_loop(tuple(fn for fn, _ in calls))(n, *(a for _, args in calls for a in args))
 

@@ -313,8 +313,8 @@ class CudaBackend(Backend):
             self.max_rate = max_rate(self.host_state().p_L) if st.n else 0.0
         return c, (float(r[0]) if st.n else 0.0), self.max_rate
 
-    def each_in_turn(self, n: int, calls) -> None:
-        self._moved += 1
+    def each_in_turn(self, n: int, calls, moves: bool = True) -> None:
+        self._moved += moves
         if n > 0:
             cuda_loops.each_kernel(tuple(fn for fn, _ in calls))[K.blocks(n), K.THREADS](
                 n, *(a for _, args in calls for a in args))

@@ -201,7 +201,11 @@ class Scheme:
     def _particle_step(self, run, dt: float, set_velocity: bool) -> None:
         run.strength_changes()
         run.backend.g2p_stages_and_stress(run.view, dt, run.particle_stages, run.time, set_velocity=set_velocity)
+        self.after_particles(run, dt)
         run.tick(run.view, dt)
+
+    def after_particles(self, run, dt: float) -> None:
+        """A scheme's own particle pass after the laws and before the clock, on what G2P left (none here)."""
 
     def wave_speed(self, scene, state, finite_only: bool = False, comm=None) -> float:
         """Largest wave speed [m/s] that bounds the step: each material block's law speed (``finite_only``:

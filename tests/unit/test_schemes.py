@@ -22,14 +22,16 @@ def test_every_registered_scheme_declares_passes_it_has():
 def test_the_step_orders_are_usl_musl_and_the_two_phase_one():
     """USL (Sulsky, Chen & Schreyer 1994): G2P after the grid stages, the stress last; MUSL (Sulsky, Zhou &
     Schreyer 1995): the velocities re-mapped and the stages applied again before positions and gradient; the
-    saturated step: loads and damping before the relative velocity, the contacts after it, then the split."""
+    saturated step: loads and damping before the relative velocity, the contacts after it, then the split, the
+    water's step, and G2P with the particle stages and the laws last (the porosity after the laws: its
+    ``after_particles``)."""
     s = registry.available("schemes")
     usl, musl, wet = s["usl"].plugin.passes, s["musl"].plugin.passes, s["saturated"].plugin.passes
     assert usl.index("grid_update_and_stages") < usl.index("g2p_stages_and_stress_update") == len(usl) - 1
     assert musl.index("g2p_velocity") < musl.index("remap") < musl.index("grid_stages_remapped") < \
         musl.index("g2p_move_stages_and_stress_update")
     assert wet.index("loads_and_damping") < wet.index("relative_velocity") < wet.index("contacts") < \
-        wet.index("split") < wet.index("water_g2p") < wet.index("g2p")
+        wet.index("split") < wet.index("water_g2p") < wet.index("g2p_stages_and_stress_update") == len(wet) - 1
     assert "load" in usl and "load" not in wet  # a water table is refused with saturated soil
 
 

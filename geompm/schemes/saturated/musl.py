@@ -25,11 +25,10 @@ class SaturatedMusl(Saturated):
     description = "saturated soil in MUSL order: both phases re-mapped before the gradients (docs/pore-water.md)"
     default = False
     passes = ("window", "two_phase_p2g", "grid_update", "loads_and_damping", "relative_velocity", "contacts",
-              "split", "water_velocity", "g2p_velocity", "remap", "pressure_step", "g2p_move", "particle_stages",
-              "porosity", "stress_update")
+              "split", "water_velocity", "g2p_velocity", "remap", "pressure_step", "g2p_move_stages_and_stress_update")
 
     g2p_velocity = Musl.g2p_velocity
-    g2p_move = Musl.g2p_move
+    g2p_move_stages_and_stress_update = Musl.g2p_move_stages_and_stress_update
 
     def water_velocity(self, run, dt: float) -> None:
         """The water's particle velocity and affine matrix from the updated grid."""

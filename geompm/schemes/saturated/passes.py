@@ -351,4 +351,5 @@ class SaturatedPasses:
 
     def porosity(self) -> None:
         P = self.particles()
-        self.be.each(tp.porosity_one, self.be.state.n, P.p_n, P.p_vol, P.p_vol0, P.p_material, self.table)
+        self.be.each_in_turn(self.be.state.n, ((tp.porosity_one, (P.p_n, P.p_vol, P.p_vol0, P.p_material,
+                                                                  self.table)),), moves=False)

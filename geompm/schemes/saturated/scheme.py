@@ -109,7 +109,7 @@ class Saturated(Scheme):
         return getattr(importlib.import_module(module), cls)(backend, self.water)
 
     passes = ("window", "two_phase_p2g", "grid_update", "loads_and_damping", "relative_velocity", "contacts",
-              "split", "water_g2p", "g2p", "particle_stages", "porosity", "stress_update")
+              "split", "water_g2p", "g2p_stages_and_stress_update")
 
     def two_phase_p2g(self, run, dt: float) -> None:
         """Both phases onto the grid (the pressure smoothed, the total stress, the halo summed), the nodes'
@@ -139,6 +139,12 @@ class Saturated(Scheme):
     def porosity(self, run, dt: float) -> None:
         """Each particle's porosity from its skeleton's volume."""
         run.backend.scheme_passes.porosity()
+
+    def after_particles(self, run, dt: float) -> None:
+        """The porosity from the volumes G2P left, after the laws (which do not read it: a law sees the effective
+        stress and its own state), so that G2P, the particle stages and the laws run as one particle pass
+        (``g2p_stages_and_stress_update``: one launch per material block on a device)."""
+        self.porosity(run, dt)
 
     def wave_speed(self, scene, state, finite_only: bool = False, comm=None) -> float:
         from geompm.schemes.saturated.speeds import saturated_speeds
